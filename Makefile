@@ -1,0 +1,47 @@
+# quadcast -- the two entry points of the quick start. Each does all of the set-up on a fresh
+# Debian 12 machine: installs the missing Debian packages, configures, builds, runs.
+BUILD ?= build
+JOBS ?= $(shell nproc)
+DEB_PACKAGES := cmake g++ make pkg-config libeigen3-dev libglm-dev glslang-tools glslang-dev \
+  doctest-dev libosmesa6-dev libcli11-dev nlohmann-json3-dev libtbb-dev libmpfrc++-dev libmpfr-dev \
+  libgmp-dev libbenchmark-dev libpng-dev
+DEMO_PACKAGES := pymol-data
+
+.PHONY: all deps demo-deps configure build test demo regenerate clean
+
+all: build
+
+deps:
+	@missing=$$(for p in $(DEB_PACKAGES); do dpkg-query -W -f='$${Status}\n' $$p 2>/dev/null | grep -q '^install ok installed' || echo $$p; done); \
+	if [ -n "$$missing" ]; then \
+	  echo "installing Debian packages:" $$missing; \
+	  SUDO=$$( [ "$$(id -u)" = 0 ] || echo sudo ); \
+	  $$SUDO apt-get update -qq && DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y -qq --no-install-recommends $$missing; \
+	fi
+
+demo-deps:
+	@missing=$$(for p in $(DEMO_PACKAGES); do dpkg-query -W -f='$${Status}\n' $$p 2>/dev/null | grep -q '^install ok installed' || echo $$p; done); \
+	if [ -n "$$missing" ]; then \
+	  SUDO=$$( [ "$$(id -u)" = 0 ] || echo sudo ); \
+	  $$SUDO apt-get update -qq && DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y -qq --no-install-recommends $$missing; \
+	fi
+
+configure: deps
+	@[ -f $(BUILD)/CMakeCache.txt ] || cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo
+
+build: configure
+	cmake --build $(BUILD) -j $(JOBS)
+
+test: build
+	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
+
+demo: build demo-deps
+	mkdir -p demo-out
+	$(BUILD)/examples/quadcast verify
+	$(BUILD)/examples/quadcast bench stability
+
+regenerate: build
+	$(BUILD)/codegen/quadcast-codegen --out generated
+
+clean:
+	rm -rf $(BUILD)

@@ -1,0 +1,13 @@
+// examples/quadcast/commands.hpp -- the subcommands of the `quadcast` command
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+namespace quadcast::cli {
+
+/// `quadcast verify`: runs every generated kernel on this machine's GL and compares with the CPU.
+void add_verify(CLI::App& app);
+/// `quadcast bench stability`: float error of the root formulations against an MPFR reference.
+void add_bench_stability(CLI::App& bench);
+
+}  // namespace quadcast::cli

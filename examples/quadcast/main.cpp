@@ -1,0 +1,22 @@
+// quadcast -- command-line front end: verify the GL driver, benchmarks, (later) rendering
+#include <iostream>
+
+#include "commands.hpp"
+
+int main(int argc, char** argv) {
+    CLI::App app{"quadcast: GPU ray casting of quadrics and trivariate splines"};
+    app.require_subcommand(1);
+    quadcast::cli::add_verify(app);
+    CLI::App* bench = app.add_subcommand("bench", "benchmarks (ratios measured in one run)");
+    bench->require_subcommand(1);
+    quadcast::cli::add_bench_stability(*bench);
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        return app.exit(e);
+    } catch (const std::exception& e) {
+        std::cerr << "quadcast: " << e.what() << "\n";
+        return 2;
+    }
+    return 0;
+}
