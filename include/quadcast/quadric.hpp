@@ -68,6 +68,10 @@ struct GraphCoefficients {
     T k00, k10, k01, k11, k20, k02;
 };
 
+/// The zero matrix (not a surface; used as the "no quadric" value of host conversions).
+template <class T>
+Quadric<T> zero_quadric() { return {zero_mat<T, 4, 4>()}; }
+
 /// Q~ from (A, b, c) (Stoll et al. 2006, eq. 4). Only the upper triangle of `A` is read
 /// (A is symmetric by definition), so the result is exactly symmetric whatever the caller passes.
 /// Numerics: copies only.
