@@ -144,7 +144,7 @@ struct Printer {
         case Op::isinf: e = "isinf(" + ref(n.a) + ")"; break;
         default: throw std::logic_error("quadcast::codegen: cannot print a leaf");
         }
-        if (n.type == Type::boolean) body << "    bool " << name << " = " << e << ";\n";
+        if (n.type == Type::boolean) body << "    precise bool " << name << " = " << e << ";\n";
         else body << "    precise float " << name << " = " << e << ";\n";
         names.emplace(id, name);
     }
@@ -216,16 +216,16 @@ std::string verify_compute_shader(const EmittedKernel& k, const KernelDef& def) 
          "uniform uint qc_count;\n"
          "uniform uint qc_offset;\n\n";
     c << k.function << "\n";
-    c << "float qc_word(uint i) { return uintBitsToFloat(qc_in[i]); }\n\n";
+    c << "float qc_verify_word(uint i) { return uintBitsToFloat(qc_in[i]); }\n\n";
     c << "void main()\n{\n";
-    c << "    uint qc_i = qc_offset + gl_GlobalInvocationID.x;\n";
-    c << "    if (qc_i >= qc_count) return;\n";
-    c << "    uint qc_b = qc_i * " << s.input_words() << "u;\n";
+    c << "    uint qc_verify_i = qc_offset + gl_GlobalInvocationID.x;\n";
+    c << "    if (qc_verify_i >= qc_count) return;\n";
+    c << "    uint qc_verify_b = qc_verify_i * " << s.input_words() << "u;\n";
     int w = 0;
     for (const Param& in : s.inputs) {
         const int n = components(in.kind);
         c << "    " << glsl_type(in.kind) << " qc_" << in.name << " = " << glsl_type(in.kind) << "(";
-        for (int i = 0; i < n; ++i) c << (i ? ", " : "") << "qc_word(qc_b + " << w++ << "u)";
+        for (int i = 0; i < n; ++i) c << (i ? ", " : "") << "qc_verify_word(qc_verify_b + " << w++ << "u)";
         c << ");\n";
     }
     for (const Param& o : s.outputs) c << "    " << glsl_type(o.kind) << " qc_" << o.name << ";\n";
@@ -234,7 +234,7 @@ std::string verify_compute_shader(const EmittedKernel& k, const KernelDef& def) 
     for (const Param& in : s.inputs) { c << (first ? "" : ", ") << "qc_" << in.name; first = false; }
     for (const Param& o : s.outputs) { c << (first ? "" : ", ") << "qc_" << o.name; first = false; }
     c << ");\n";
-    c << "    uint qc_o = qc_i * " << s.output_words() << "u;\n";
+    c << "    uint qc_verify_o = qc_verify_i * " << s.output_words() << "u;\n";
     w = 0;
     for (const Param& o : s.outputs) {
         const int n = components(o.kind);
@@ -245,8 +245,8 @@ std::string verify_compute_shader(const EmittedKernel& k, const KernelDef& def) 
                 const int rows = o.kind == Kind::mat3 ? 3 : 4;
                 v += "[" + std::to_string(i / rows) + "][" + std::to_string(i % rows) + "]";
             }
-            if (o.kind == Kind::boolean) c << "    qc_out[qc_o + " << w++ << "u] = " << v << " ? 1u : 0u;\n";
-            else c << "    qc_out[qc_o + " << w++ << "u] = floatBitsToUint(" << v << ");\n";
+            if (o.kind == Kind::boolean) c << "    qc_out[qc_verify_o + " << w++ << "u] = " << v << " ? 1u : 0u;\n";
+            else c << "    qc_out[qc_verify_o + " << w++ << "u] = floatBitsToUint(" << v << ");\n";
         }
     }
     c << "}\n";

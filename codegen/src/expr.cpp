@@ -208,10 +208,89 @@ Expr& Expr::operator-=(const Expr& o) { return *this = *this - o; }
 Expr& Expr::operator*=(const Expr& o) { return *this = *this * o; }
 Expr& Expr::operator/=(const Expr& o) { return *this = *this / o; }
 
-Expr operator+(const Expr& a, const Expr& b) { return bin(Op::add, a, b); }
-Expr operator-(const Expr& a, const Expr& b) { return bin(Op::sub, a, b); }
-Expr operator*(const Expr& a, const Expr& b) { return bin(Op::mul, a, b); }
-Expr operator/(const Expr& a, const Expr& b) { return bin(Op::div, a, b); }
+// Literal zeros. GLSL compilers fold `x * 0.0`, `x + 0.0` and `0.0 - x` even in `precise`
+// statements (measured on Mesa llvmpipe), which is wrong for x = -0, Inf or NaN. So an
+// arithmetic operation never gets a literal +-0 operand in the emitted text: the exact IEEE
+// identities are applied here (x + -0 = x, x - +0 = x, -0 - x = -x), and the other cases are
+// rewritten into selects and comparisons that compute the same bits for every x.
+
+namespace {
+
+bool is_zero_literal(const Expr& e, bool& negative) {
+    const Node& n = rec().node(e.id);
+    if (n.op != Op::literal || n.type != Type::f32 || (n.lit & 0x7FFFFFFFu) != 0) return false;
+    negative = (n.lit & 0x80000000u) != 0;
+    return true;
+}
+
+bool is_literal(const Expr& e) { return rec().node(e.id).op == Op::literal; }
+
+Expr lit(float v) { return Expr(v); }
+Expr nan_lit() { return Expr::from_id(rec().literal_f32(std::bit_cast<float>(0x7FC00000u))); }
+
+/// True where x has its sign bit set (including -0): x < 0, or x == 0 and 1/x < 0.
+Mask sign_bit(const Expr& x) {
+    const Mask is_zero = cmp(Op::eq, x, lit(0.0f));
+    const Expr inv = bin(Op::div, lit(1.0f), x);
+    return Mask::from_id(rec().make(Op::lor, Type::boolean, cmp(Op::lt, x, lit(0.0f)).id,
+                                    rec().make(Op::land, Type::boolean, is_zero.id, cmp(Op::lt, inv, lit(0.0f)).id)));
+}
+
+/// A zero whose sign bit is `negative`.
+Expr signed_zero(const Mask& negative) { return select(negative, lit(-0.0f), lit(0.0f)); }
+
+/// x + (+0): x, except -0 + +0 = +0.
+Expr plus_zero(const Expr& x) { return select(cmp(Op::eq, x, lit(0.0f)), lit(0.0f), x); }
+
+/// x * (+-0): a zero with the product's sign for finite x, NaN for Inf and NaN.
+Expr times_zero(const Expr& x, bool zero_negative) {
+    const Mask neg = zero_negative ? !sign_bit(x) : sign_bit(x);
+    return select(isfinite(x), signed_zero(neg), nan_lit());
+}
+
+}  // namespace
+
+Expr operator+(const Expr& a, const Expr& b) {
+    bool na = false, nb = false;
+    const bool za = is_zero_literal(a, na), zb = is_zero_literal(b, nb);
+    if (za && zb) return bin(Op::add, a, b);  // folds
+    if (zb) return nb ? a : plus_zero(a);
+    if (za) return na ? b : plus_zero(b);
+    return bin(Op::add, a, b);
+}
+
+Expr operator-(const Expr& a, const Expr& b) {
+    bool na = false, nb = false;
+    const bool za = is_zero_literal(a, na), zb = is_zero_literal(b, nb);
+    if (za && zb) return bin(Op::sub, a, b);  // folds
+    if (zb) return nb ? plus_zero(a) : a;                 // x - (-0) = x + 0; x - (+0) = x
+    if (za) return na ? -b : select(cmp(Op::eq, b, lit(0.0f)), lit(0.0f), -b);  // -0 - x = -x; +0 - x
+    return bin(Op::sub, a, b);
+}
+
+Expr operator*(const Expr& a, const Expr& b) {
+    bool na = false, nb = false;
+    const bool za = is_zero_literal(a, na), zb = is_zero_literal(b, nb);
+    if (za && zb) return bin(Op::mul, a, b);  // folds
+    if (zb) return times_zero(a, nb);
+    if (za) return times_zero(b, na);
+    return bin(Op::mul, a, b);
+}
+
+Expr operator/(const Expr& a, const Expr& b) {
+    bool na = false, nb = false;
+    const bool za = is_zero_literal(a, na), zb = is_zero_literal(b, nb);
+    if (!is_literal(a) || !is_literal(b)) {
+        if (zb) throw std::logic_error("quadcast::codegen: division by a literal zero in a traced kernel");
+        if (za) {
+            // +-0 / x: NaN for x = +-0 or NaN, otherwise a zero with the quotient's sign.
+            const Mask undefined = cmp(Op::eq, b, lit(0.0f)) || isnan(b);
+            const Mask neg = na ? !sign_bit(b) : sign_bit(b);
+            return select(undefined, nan_lit(), signed_zero(neg));
+        }
+    }
+    return bin(Op::div, a, b);
+}
 Expr operator-(const Expr& a) { return Expr::from_id(rec().make(Op::neg, Type::f32, a.id)); }
 Mask operator<(const Expr& a, const Expr& b) { return cmp(Op::lt, a, b); }
 Mask operator<=(const Expr& a, const Expr& b) { return cmp(Op::le, a, b); }

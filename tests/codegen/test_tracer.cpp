@@ -14,35 +14,14 @@
 #include "quadcast/codegen/emit.hpp"
 #include "quadcast/codegen/interpret.hpp"
 #include "quadcast/linalg.hpp"
+#include "codegen/test_kernels.hpp"
 
 using namespace quadcast;
 using namespace quadcast::codegen;
+using quadcast::test::MixedKernel;
+using quadcast::test::ZeroLiteralKernel;
 
 namespace {
-
-// A small kernel with every kind of operation: selects, comparisons, sqrt, division, a loop.
-struct MixedKernel {
-    static constexpr const char* name = "test_mixed";
-    static constexpr const char* source = "tests/codegen/test_tracer.cpp";
-    static constexpr const char* summary = "tracer test kernel";
-    template <class IO>
-    static void run(IO& io) {
-        using T = typename IO::T;
-        const Vec3<T> a = io.template vec<3>("a");
-        const Vec3<T> b = io.template vec<3>("b");
-        const T s = io.scalar("s");
-        const T d = dot(a, b);
-        const auto pos = d > T(0);
-        T acc = s;
-        for (int i = 0; i < 4; ++i) acc = acc * T(0.5) + select(pos, d, -d);  // unrolls
-        const T r = sqrt(select(pos, d, T(0))) / (abs(s) + T(0.1));
-        io.out("acc", acc);
-        io.out("r", r);
-        io.out("c", cross(a, b));
-        io.out("hit", pos && isfinite(r));
-        io.out("m", min(d, s));
-    }
-};
 
 std::uint32_t random_word(std::mt19937& rng) {
     std::uniform_int_distribution<int> pick(0, 9);
@@ -163,4 +142,22 @@ TEST_CASE("float literals read back to exactly the same bits") {
     CHECK(glsl_float(2.0f) == "2.0");
     CHECK(glsl_float(-2.0f) == "(-2.0)");
     CHECK(glsl_float(0.1f) == "uintBitsToFloat(0x3DCCCCCDu) /* 0.100000001 */");
+}
+
+TEST_CASE("literal zeros never reach the GLSL text and keep IEEE semantics") {
+    const KernelDef k = make_kernel<ZeroLiteralKernel>();
+    const EmittedKernel e = emit_kernel(k);
+    for (const char* bad : {"* 0.0", "+ 0.0", "- 0.0", "0.0 *", "0.0 +", "0.0 -", "0.0 /", "/ 0.0", "/* -0 */ *", "/* -0 */ -", "/* -0 */ +", "/* -0 */ /"})
+        CHECK_MESSAGE(e.function.find(bad) == std::string::npos, bad);
+    TracedKernel traced(k);
+    const float special[] = {0.0f, -0.0f, 1.0f, -1.0f, std::numeric_limits<float>::infinity(), -std::numeric_limits<float>::infinity(),
+                             std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::denorm_min(), -3.5e38f, 2.5f};
+    std::vector<std::uint32_t> a(11), b(11);
+    for (float v : special) {
+        const std::uint32_t in[1] = {std::bit_cast<std::uint32_t>(v)};
+        CpuIO io(in, a);
+        k.cpu(io);
+        traced.run(in, b);
+        for (int i = 0; i < 11; ++i) CHECK_MESSAGE(same_word(a[i], b[i]), "x = " << v << ", output " << i);
+    }
 }

@@ -39,19 +39,19 @@ void qc_quadric_half_gradient(in mat4 qc_q, in vec3 qc_x, out vec3 qc_n)
     qc_n.z = qc_t20;
 }
 
-float qc_word(uint i) { return uintBitsToFloat(qc_in[i]); }
+float qc_verify_word(uint i) { return uintBitsToFloat(qc_in[i]); }
 
 void main()
 {
-    uint qc_i = qc_offset + gl_GlobalInvocationID.x;
-    if (qc_i >= qc_count) return;
-    uint qc_b = qc_i * 19u;
-    mat4 qc_q = mat4(qc_word(qc_b + 0u), qc_word(qc_b + 1u), qc_word(qc_b + 2u), qc_word(qc_b + 3u), qc_word(qc_b + 4u), qc_word(qc_b + 5u), qc_word(qc_b + 6u), qc_word(qc_b + 7u), qc_word(qc_b + 8u), qc_word(qc_b + 9u), qc_word(qc_b + 10u), qc_word(qc_b + 11u), qc_word(qc_b + 12u), qc_word(qc_b + 13u), qc_word(qc_b + 14u), qc_word(qc_b + 15u));
-    vec3 qc_x = vec3(qc_word(qc_b + 16u), qc_word(qc_b + 17u), qc_word(qc_b + 18u));
+    uint qc_verify_i = qc_offset + gl_GlobalInvocationID.x;
+    if (qc_verify_i >= qc_count) return;
+    uint qc_verify_b = qc_verify_i * 19u;
+    mat4 qc_q = mat4(qc_verify_word(qc_verify_b + 0u), qc_verify_word(qc_verify_b + 1u), qc_verify_word(qc_verify_b + 2u), qc_verify_word(qc_verify_b + 3u), qc_verify_word(qc_verify_b + 4u), qc_verify_word(qc_verify_b + 5u), qc_verify_word(qc_verify_b + 6u), qc_verify_word(qc_verify_b + 7u), qc_verify_word(qc_verify_b + 8u), qc_verify_word(qc_verify_b + 9u), qc_verify_word(qc_verify_b + 10u), qc_verify_word(qc_verify_b + 11u), qc_verify_word(qc_verify_b + 12u), qc_verify_word(qc_verify_b + 13u), qc_verify_word(qc_verify_b + 14u), qc_verify_word(qc_verify_b + 15u));
+    vec3 qc_x = vec3(qc_verify_word(qc_verify_b + 16u), qc_verify_word(qc_verify_b + 17u), qc_verify_word(qc_verify_b + 18u));
     vec3 qc_n;
     qc_quadric_half_gradient(qc_q, qc_x, qc_n);
-    uint qc_o = qc_i * 3u;
-    qc_out[qc_o + 0u] = floatBitsToUint(qc_n.x);
-    qc_out[qc_o + 1u] = floatBitsToUint(qc_n.y);
-    qc_out[qc_o + 2u] = floatBitsToUint(qc_n.z);
+    uint qc_verify_o = qc_verify_i * 3u;
+    qc_out[qc_verify_o + 0u] = floatBitsToUint(qc_n.x);
+    qc_out[qc_verify_o + 1u] = floatBitsToUint(qc_n.y);
+    qc_out[qc_verify_o + 2u] = floatBitsToUint(qc_n.z);
 }

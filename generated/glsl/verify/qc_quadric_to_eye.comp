@@ -58,32 +58,32 @@ void qc_quadric_to_eye(in mat4 qc_q, in vec3 qc_eye, out mat4 qc_q_eye)
     qc_q_eye[3][3] = qc_t26;
 }
 
-float qc_word(uint i) { return uintBitsToFloat(qc_in[i]); }
+float qc_verify_word(uint i) { return uintBitsToFloat(qc_in[i]); }
 
 void main()
 {
-    uint qc_i = qc_offset + gl_GlobalInvocationID.x;
-    if (qc_i >= qc_count) return;
-    uint qc_b = qc_i * 19u;
-    mat4 qc_q = mat4(qc_word(qc_b + 0u), qc_word(qc_b + 1u), qc_word(qc_b + 2u), qc_word(qc_b + 3u), qc_word(qc_b + 4u), qc_word(qc_b + 5u), qc_word(qc_b + 6u), qc_word(qc_b + 7u), qc_word(qc_b + 8u), qc_word(qc_b + 9u), qc_word(qc_b + 10u), qc_word(qc_b + 11u), qc_word(qc_b + 12u), qc_word(qc_b + 13u), qc_word(qc_b + 14u), qc_word(qc_b + 15u));
-    vec3 qc_eye = vec3(qc_word(qc_b + 16u), qc_word(qc_b + 17u), qc_word(qc_b + 18u));
+    uint qc_verify_i = qc_offset + gl_GlobalInvocationID.x;
+    if (qc_verify_i >= qc_count) return;
+    uint qc_verify_b = qc_verify_i * 19u;
+    mat4 qc_q = mat4(qc_verify_word(qc_verify_b + 0u), qc_verify_word(qc_verify_b + 1u), qc_verify_word(qc_verify_b + 2u), qc_verify_word(qc_verify_b + 3u), qc_verify_word(qc_verify_b + 4u), qc_verify_word(qc_verify_b + 5u), qc_verify_word(qc_verify_b + 6u), qc_verify_word(qc_verify_b + 7u), qc_verify_word(qc_verify_b + 8u), qc_verify_word(qc_verify_b + 9u), qc_verify_word(qc_verify_b + 10u), qc_verify_word(qc_verify_b + 11u), qc_verify_word(qc_verify_b + 12u), qc_verify_word(qc_verify_b + 13u), qc_verify_word(qc_verify_b + 14u), qc_verify_word(qc_verify_b + 15u));
+    vec3 qc_eye = vec3(qc_verify_word(qc_verify_b + 16u), qc_verify_word(qc_verify_b + 17u), qc_verify_word(qc_verify_b + 18u));
     mat4 qc_q_eye;
     qc_quadric_to_eye(qc_q, qc_eye, qc_q_eye);
-    uint qc_o = qc_i * 16u;
-    qc_out[qc_o + 0u] = floatBitsToUint(qc_q_eye[0][0]);
-    qc_out[qc_o + 1u] = floatBitsToUint(qc_q_eye[0][1]);
-    qc_out[qc_o + 2u] = floatBitsToUint(qc_q_eye[0][2]);
-    qc_out[qc_o + 3u] = floatBitsToUint(qc_q_eye[0][3]);
-    qc_out[qc_o + 4u] = floatBitsToUint(qc_q_eye[1][0]);
-    qc_out[qc_o + 5u] = floatBitsToUint(qc_q_eye[1][1]);
-    qc_out[qc_o + 6u] = floatBitsToUint(qc_q_eye[1][2]);
-    qc_out[qc_o + 7u] = floatBitsToUint(qc_q_eye[1][3]);
-    qc_out[qc_o + 8u] = floatBitsToUint(qc_q_eye[2][0]);
-    qc_out[qc_o + 9u] = floatBitsToUint(qc_q_eye[2][1]);
-    qc_out[qc_o + 10u] = floatBitsToUint(qc_q_eye[2][2]);
-    qc_out[qc_o + 11u] = floatBitsToUint(qc_q_eye[2][3]);
-    qc_out[qc_o + 12u] = floatBitsToUint(qc_q_eye[3][0]);
-    qc_out[qc_o + 13u] = floatBitsToUint(qc_q_eye[3][1]);
-    qc_out[qc_o + 14u] = floatBitsToUint(qc_q_eye[3][2]);
-    qc_out[qc_o + 15u] = floatBitsToUint(qc_q_eye[3][3]);
+    uint qc_verify_o = qc_verify_i * 16u;
+    qc_out[qc_verify_o + 0u] = floatBitsToUint(qc_q_eye[0][0]);
+    qc_out[qc_verify_o + 1u] = floatBitsToUint(qc_q_eye[0][1]);
+    qc_out[qc_verify_o + 2u] = floatBitsToUint(qc_q_eye[0][2]);
+    qc_out[qc_verify_o + 3u] = floatBitsToUint(qc_q_eye[0][3]);
+    qc_out[qc_verify_o + 4u] = floatBitsToUint(qc_q_eye[1][0]);
+    qc_out[qc_verify_o + 5u] = floatBitsToUint(qc_q_eye[1][1]);
+    qc_out[qc_verify_o + 6u] = floatBitsToUint(qc_q_eye[1][2]);
+    qc_out[qc_verify_o + 7u] = floatBitsToUint(qc_q_eye[1][3]);
+    qc_out[qc_verify_o + 8u] = floatBitsToUint(qc_q_eye[2][0]);
+    qc_out[qc_verify_o + 9u] = floatBitsToUint(qc_q_eye[2][1]);
+    qc_out[qc_verify_o + 10u] = floatBitsToUint(qc_q_eye[2][2]);
+    qc_out[qc_verify_o + 11u] = floatBitsToUint(qc_q_eye[2][3]);
+    qc_out[qc_verify_o + 12u] = floatBitsToUint(qc_q_eye[3][0]);
+    qc_out[qc_verify_o + 13u] = floatBitsToUint(qc_q_eye[3][1]);
+    qc_out[qc_verify_o + 14u] = floatBitsToUint(qc_q_eye[3][2]);
+    qc_out[qc_verify_o + 15u] = floatBitsToUint(qc_q_eye[3][3]);
 }

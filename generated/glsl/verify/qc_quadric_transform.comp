@@ -213,32 +213,32 @@ void qc_quadric_transform(in mat4 qc_q, in mat4 qc_m_inv, out mat4 qc_q_new)
     qc_q_new[3][3] = qc_t181;
 }
 
-float qc_word(uint i) { return uintBitsToFloat(qc_in[i]); }
+float qc_verify_word(uint i) { return uintBitsToFloat(qc_in[i]); }
 
 void main()
 {
-    uint qc_i = qc_offset + gl_GlobalInvocationID.x;
-    if (qc_i >= qc_count) return;
-    uint qc_b = qc_i * 32u;
-    mat4 qc_q = mat4(qc_word(qc_b + 0u), qc_word(qc_b + 1u), qc_word(qc_b + 2u), qc_word(qc_b + 3u), qc_word(qc_b + 4u), qc_word(qc_b + 5u), qc_word(qc_b + 6u), qc_word(qc_b + 7u), qc_word(qc_b + 8u), qc_word(qc_b + 9u), qc_word(qc_b + 10u), qc_word(qc_b + 11u), qc_word(qc_b + 12u), qc_word(qc_b + 13u), qc_word(qc_b + 14u), qc_word(qc_b + 15u));
-    mat4 qc_m_inv = mat4(qc_word(qc_b + 16u), qc_word(qc_b + 17u), qc_word(qc_b + 18u), qc_word(qc_b + 19u), qc_word(qc_b + 20u), qc_word(qc_b + 21u), qc_word(qc_b + 22u), qc_word(qc_b + 23u), qc_word(qc_b + 24u), qc_word(qc_b + 25u), qc_word(qc_b + 26u), qc_word(qc_b + 27u), qc_word(qc_b + 28u), qc_word(qc_b + 29u), qc_word(qc_b + 30u), qc_word(qc_b + 31u));
+    uint qc_verify_i = qc_offset + gl_GlobalInvocationID.x;
+    if (qc_verify_i >= qc_count) return;
+    uint qc_verify_b = qc_verify_i * 32u;
+    mat4 qc_q = mat4(qc_verify_word(qc_verify_b + 0u), qc_verify_word(qc_verify_b + 1u), qc_verify_word(qc_verify_b + 2u), qc_verify_word(qc_verify_b + 3u), qc_verify_word(qc_verify_b + 4u), qc_verify_word(qc_verify_b + 5u), qc_verify_word(qc_verify_b + 6u), qc_verify_word(qc_verify_b + 7u), qc_verify_word(qc_verify_b + 8u), qc_verify_word(qc_verify_b + 9u), qc_verify_word(qc_verify_b + 10u), qc_verify_word(qc_verify_b + 11u), qc_verify_word(qc_verify_b + 12u), qc_verify_word(qc_verify_b + 13u), qc_verify_word(qc_verify_b + 14u), qc_verify_word(qc_verify_b + 15u));
+    mat4 qc_m_inv = mat4(qc_verify_word(qc_verify_b + 16u), qc_verify_word(qc_verify_b + 17u), qc_verify_word(qc_verify_b + 18u), qc_verify_word(qc_verify_b + 19u), qc_verify_word(qc_verify_b + 20u), qc_verify_word(qc_verify_b + 21u), qc_verify_word(qc_verify_b + 22u), qc_verify_word(qc_verify_b + 23u), qc_verify_word(qc_verify_b + 24u), qc_verify_word(qc_verify_b + 25u), qc_verify_word(qc_verify_b + 26u), qc_verify_word(qc_verify_b + 27u), qc_verify_word(qc_verify_b + 28u), qc_verify_word(qc_verify_b + 29u), qc_verify_word(qc_verify_b + 30u), qc_verify_word(qc_verify_b + 31u));
     mat4 qc_q_new;
     qc_quadric_transform(qc_q, qc_m_inv, qc_q_new);
-    uint qc_o = qc_i * 16u;
-    qc_out[qc_o + 0u] = floatBitsToUint(qc_q_new[0][0]);
-    qc_out[qc_o + 1u] = floatBitsToUint(qc_q_new[0][1]);
-    qc_out[qc_o + 2u] = floatBitsToUint(qc_q_new[0][2]);
-    qc_out[qc_o + 3u] = floatBitsToUint(qc_q_new[0][3]);
-    qc_out[qc_o + 4u] = floatBitsToUint(qc_q_new[1][0]);
-    qc_out[qc_o + 5u] = floatBitsToUint(qc_q_new[1][1]);
-    qc_out[qc_o + 6u] = floatBitsToUint(qc_q_new[1][2]);
-    qc_out[qc_o + 7u] = floatBitsToUint(qc_q_new[1][3]);
-    qc_out[qc_o + 8u] = floatBitsToUint(qc_q_new[2][0]);
-    qc_out[qc_o + 9u] = floatBitsToUint(qc_q_new[2][1]);
-    qc_out[qc_o + 10u] = floatBitsToUint(qc_q_new[2][2]);
-    qc_out[qc_o + 11u] = floatBitsToUint(qc_q_new[2][3]);
-    qc_out[qc_o + 12u] = floatBitsToUint(qc_q_new[3][0]);
-    qc_out[qc_o + 13u] = floatBitsToUint(qc_q_new[3][1]);
-    qc_out[qc_o + 14u] = floatBitsToUint(qc_q_new[3][2]);
-    qc_out[qc_o + 15u] = floatBitsToUint(qc_q_new[3][3]);
+    uint qc_verify_o = qc_verify_i * 16u;
+    qc_out[qc_verify_o + 0u] = floatBitsToUint(qc_q_new[0][0]);
+    qc_out[qc_verify_o + 1u] = floatBitsToUint(qc_q_new[0][1]);
+    qc_out[qc_verify_o + 2u] = floatBitsToUint(qc_q_new[0][2]);
+    qc_out[qc_verify_o + 3u] = floatBitsToUint(qc_q_new[0][3]);
+    qc_out[qc_verify_o + 4u] = floatBitsToUint(qc_q_new[1][0]);
+    qc_out[qc_verify_o + 5u] = floatBitsToUint(qc_q_new[1][1]);
+    qc_out[qc_verify_o + 6u] = floatBitsToUint(qc_q_new[1][2]);
+    qc_out[qc_verify_o + 7u] = floatBitsToUint(qc_q_new[1][3]);
+    qc_out[qc_verify_o + 8u] = floatBitsToUint(qc_q_new[2][0]);
+    qc_out[qc_verify_o + 9u] = floatBitsToUint(qc_q_new[2][1]);
+    qc_out[qc_verify_o + 10u] = floatBitsToUint(qc_q_new[2][2]);
+    qc_out[qc_verify_o + 11u] = floatBitsToUint(qc_q_new[2][3]);
+    qc_out[qc_verify_o + 12u] = floatBitsToUint(qc_q_new[3][0]);
+    qc_out[qc_verify_o + 13u] = floatBitsToUint(qc_q_new[3][1]);
+    qc_out[qc_verify_o + 14u] = floatBitsToUint(qc_q_new[3][2]);
+    qc_out[qc_verify_o + 15u] = floatBitsToUint(qc_q_new[3][3]);
 }

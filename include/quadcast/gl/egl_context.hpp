@@ -107,7 +107,8 @@ inline std::string hex(EGLint v) {
 }  // namespace egl_detail
 
 /// An offscreen OpenGL core context on Mesa's EGL surfaceless platform, current on the
-/// constructing thread with no default framebuffer (render to framebuffer objects).
+/// constructing thread with no default framebuffer (render to framebuffer objects). As with
+/// OsmesaContext, objects holding a pointer to api() need the context at a stable address.
 class EglContext {
 public:
     struct Options {

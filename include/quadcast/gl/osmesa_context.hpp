@@ -15,7 +15,9 @@ namespace quadcast::gl {
 
 /// An offscreen OpenGL core context from OSMesa (Mesa's llvmpipe on a machine without GPU),
 /// current on the constructing thread, with a small RGBA8 default framebuffer (render to your
-/// own framebuffer objects for real work) and the loaded function table.
+/// own framebuffer objects for real work) and the loaded function table. Objects that keep a
+/// pointer to api() (ComputeRunner, Program ...) need the context at a stable address: move it
+/// before creating them, and destroy them first.
 class OsmesaContext {
 public:
     struct Options {
