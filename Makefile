@@ -2,7 +2,7 @@
 # Debian 12 machine: installs the missing Debian packages, configures, builds, runs.
 BUILD ?= build
 JOBS ?= $(shell nproc)
-DEB_PACKAGES := cmake g++ make pkg-config libeigen3-dev libglm-dev glslang-tools glslang-dev \
+DEB_PACKAGES := cmake g++ clang make pkg-config libeigen3-dev libglm-dev glslang-tools glslang-dev \
   doctest-dev libosmesa6-dev libcli11-dev nlohmann-json3-dev libtbb-dev libmpfrc++-dev libmpfr-dev \
   libgmp-dev libbenchmark-dev libpng-dev
 DEMO_PACKAGES := pymol-data

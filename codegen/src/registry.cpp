@@ -2,6 +2,7 @@
 #include "quadcast/codegen/generate.hpp"
 
 #include "kernels/quadric_kernels.hpp"
+#include "kernels/ray_kernels.hpp"
 
 namespace quadcast::codegen {
 
@@ -12,6 +13,16 @@ const std::vector<KernelDef>& registry() {
         make_kernel<QuadricHalfGradient>(),
         make_kernel<QuadricTransform>(),
         make_kernel<QuadricToEye>(),
+        make_kernel<RayCoefficientsKernel>(),
+        make_kernel<RayQuadraticLocalKernel>(),
+        make_kernel<FrontRootKernel<RootFormula::stable>>(),
+        make_kernel<FrontRootKernel<RootFormula::classic>>(),
+        make_kernel<FrontRootKernel<RootFormula::stoll>>(),
+        make_kernel<RootsNearFirstKernel>(),
+        make_kernel<CullSphereKernel>(),
+        make_kernel<CullTetKernel>(),
+        make_kernel<InsideTetKernel>(),
+        make_kernel<BilinearLocalKernel>(),
     };
     return all;
 }
