@@ -4,8 +4,8 @@ BUILD ?= build
 JOBS ?= $(shell nproc)
 DEB_PACKAGES := cmake g++ clang make pkg-config libeigen3-dev libglm-dev glslang-tools glslang-dev \
   doctest-dev libosmesa6-dev libcli11-dev nlohmann-json3-dev libtbb-dev libmpfrc++-dev libmpfr-dev \
-  libgmp-dev libbenchmark-dev libpng-dev
-DEMO_PACKAGES := pymol-data
+  libgmp-dev libbenchmark-dev libpng-dev nlohmann-json3-dev pymol-data
+DEMO_PACKAGES :=
 
 .PHONY: all deps demo-deps configure build test demo regenerate clean
 

@@ -3,6 +3,7 @@
 
 #include "kernels/quadric_kernels.hpp"
 #include "kernels/ray_kernels.hpp"
+#include "kernels/bounds_kernels.hpp"
 
 namespace quadcast::codegen {
 
@@ -23,6 +24,11 @@ const std::vector<KernelDef>& registry() {
         make_kernel<CullTetKernel>(),
         make_kernel<InsideTetKernel>(),
         make_kernel<BilinearLocalKernel>(),
+        make_kernel<SiggBBoxKernel>(),
+        make_kernel<SlabBBoxKernel<false>>(),
+        make_kernel<SlabBBoxKernel<true>>(),
+        make_kernel<WindowRayKernel>(),
+        make_kernel<SphereQuadKernel>(),
     };
     return all;
 }

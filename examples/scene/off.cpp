@@ -1,6 +1,8 @@
 // examples/scene/off.cpp -- OFF (Geomview Object File Format) reader for bilinear quad meshes
 #include "off.hpp"
 
+#include "quadcast/bilinear.hpp"
+
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
@@ -187,17 +189,9 @@ OffMesh read_off(const std::filesystem::path& path) {
 }
 
 bool quad_has_zero_area(const std::array<Vec3d, 4>& p) {
-    double size2 = 0.0, area2 = 0.0;
-    for (int i = 0; i < 4; ++i) {
-        const Vec3d& a = p[std::size_t(i)];
-        const Vec3d& b = p[std::size_t((i + 1) % 4)];
-        const Vec3d& c = p[std::size_t((i + 3) % 4)];
-        size2 = std::max(size2, length2(p[std::size_t((i + 2) % 4)] - a));
-        size2 = std::max(size2, length2(b - a));
-        area2 = std::max(area2, length2(cross(b - a, c - a)));
-    }
-    // |cross| is twice a corner triangle's area; compare squared quantities.
-    return !(area2 > 1e-24 * size2 * size2);
+    // The core's host-side classification, so "degenerate" means the same everywhere.
+    const quadcast::QuadKind k = quadcast::classify_quad<double>(p[0], p[1], p[2], p[3]);
+    return k == quadcast::QuadKind::segment || k == quadcast::QuadKind::point || k == quadcast::QuadKind::non_finite;
 }
 
 std::vector<BilinearQuad> off_to_quads(const OffMesh& mesh, const OffOptions& options, const Material& material,

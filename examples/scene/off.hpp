@@ -58,8 +58,9 @@ struct OffOptions {
 std::vector<BilinearQuad> off_to_quads(const OffMesh& mesh, const OffOptions& options, const Material& material,
                                        Warnings& warnings);
 
-/// True when the four corners are all (nearly) collinear or coincident: every corner
-/// triangle has an area below 1e-12 times the squared size of the quad.
+/// True when the four corners are all collinear or coincident (up to rounding): what
+/// quadcast::classify_quad<double> (quadcast/bilinear.hpp) calls a segment or a point.
+/// Triangles (one corner repeated) and planar quads are not degenerate in this sense.
 bool quad_has_zero_area(const std::array<Vec3d, 4>& p);
 
 }  // namespace quadcast::scene

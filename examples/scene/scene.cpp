@@ -1,6 +1,8 @@
 // examples/scene/scene.cpp -- camera validation, quadric matrices, bounding boxes
 #include "scene.hpp"
 
+#include "quadcast/quadric.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -64,17 +66,10 @@ void Camera::validate() const {
 // Quadrics -------------------------------------------------------------------------------------
 
 Mat4d quadric_matrix_from_coefficients(const std::array<double, 10>& k) {
-    // Stoll et al. 2006, eq. 3-4: A holds the quadratic terms (halved off the diagonal),
-    // b the halved linear terms, c the constant.
-    const double k000 = k[0], k100 = k[1], k010 = k[2], k001 = k[3], k110 = k[4], k011 = k[5],
-                 k101 = k[6], k200 = k[7], k020 = k[8], k002 = k[9];
-    const Vec<double, 4> rows[4] = {
-        {{k200, 0.5 * k110, 0.5 * k101, 0.5 * k100}},
-        {{0.5 * k110, k020, 0.5 * k011, 0.5 * k010}},
-        {{0.5 * k101, 0.5 * k011, k002, 0.5 * k001}},
-        {{0.5 * k100, 0.5 * k010, 0.5 * k001, k000}},
-    };
-    return from_rows<double, 4, 4>(rows);
+    // The core's conversion (Stoll et al. 2006, eq. 3-4), so the formula exists once.
+    return quadcast::quadric_from_coefficients(
+               quadcast::Coefficients10<double>{k[0], k[1], k[2], k[3], k[4], k[5], k[6], k[7], k[8], k[9]})
+        .q;
 }
 
 // Boxes ----------------------------------------------------------------------------------------

@@ -105,7 +105,8 @@ struct BoundingTetrahedron {
 
 /// General quadric x~^T Q x~ = 0 with the symmetric homogeneous 4x4 matrix Q
 /// (Stoll et al. 2006, eq. 4: Q = [A b; b^T c], x~ = (x, y, z, 1)), clipped to a bounding
-/// sphere or tetrahedron. Column-major like every Mat: `q[col][row]`.
+/// sphere or tetrahedron. Column-major like every Mat: `q[col][row]`; the same layout as
+/// `quadcast::Quadric<double>::q` (quadcast/quadric.hpp).
 struct Quadric {
     enum class Bound { sphere, tetrahedron };
     Mat4d q;
@@ -124,7 +125,8 @@ struct BilinearQuad {
 };
 
 /// The 10 coefficients k of Stoll et al. 2006, eq. 1, in the order
-/// k000, k100, k010, k001, k110, k011, k101, k200, k020, k002, as the matrix of eq. 3/4.
+/// k000, k100, k010, k001, k110, k011, k101, k200, k020, k002 (quadcast::Coefficients10), as
+/// the matrix of eq. 3/4 (by quadcast::quadric_from_coefficients).
 Mat4d quadric_matrix_from_coefficients(const std::array<double, 10>& k);
 
 /// Rendering switches (see the paper references in the README): per-quadric back-face

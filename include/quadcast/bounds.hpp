@@ -1,0 +1,385 @@
+// quadcast/bounds.hpp -- screen-space bounds and window-space ray casting of parameter-space quadrics
+#pragma once
+
+#include "quadcast/linalg.hpp"
+#include "quadcast/primitives.hpp"
+#include "quadcast/scalar.hpp"
+
+namespace quadcast {
+
+// Coordinates follow Sigg et al. 2006, fig. 3: parameter (p) -T-> object -M-> eye -P-> clip
+// -divide-> NDC -V-> window. `pmt` is the compound P * M * T, `vpmt_inv` is (V * P * M * T)^-1.
+//
+// The box of eq. 5 is in NDC. The paper says "clip coordinates", but the half-space
+// n_c^T x_c <= 0 with n_c = (1, 0, 0, -b_x) reads x_c <= b_x w_c, i.e. x_c / w_c <= b_x for
+// w_c > 0: b_x is the NDC coordinate x_c / w_c of the bounding line. Every such plane contains
+// the eye (clip (0, 0, z, 0)), so it is a plane through the eye touching the quadric. The same
+// holds for Sigg's centre v_c = (r1 D r4, r2 D r4, 0, r4 D r4): divided by its w it is the NDC
+// midpoint (b_1 + b_2) / 2 = (r1 D r4) / (r4 D r4) of the two roots.
+
+/// Axis-aligned NDC rectangle [lo.x, hi.x] x [lo.y, hi.y] with a validity mask.
+/// `valid` is true when the (clipped) primitive lies strictly in front of the eye plane
+/// (w_c > 0 everywhere on it) and the rectangle bounds its projection. When it is false the
+/// rectangle is the full screen [-1, 1]^2, a safe fallback (the primitive straddles or lies
+/// behind the eye plane, contains the eye, or the input was degenerate).
+template <class T>
+struct ScreenBox {
+    Vec2<T> lo;
+    Vec2<T> hi;
+    mask_t<T> valid;
+};
+
+/// NDC midpoint of a box.
+/// Numerics: (lo + hi) * 0.5 per component.
+template <class T>
+Vec2<T> box_center(const ScreenBox<T>& b) {
+    return vec2((b.lo[0] + b.hi[0]) * T(0.5), (b.lo[1] + b.hi[1]) * T(0.5));
+}
+
+/// Window rectangle (x0, y0, x1, y1) of an NDC box for the viewport (x, y, width, height):
+/// x_w = x + (x_ndc + 1) * width / 2.
+/// Numerics: x + ((x_ndc + 1) * (width * 0.5)).
+template <class T>
+Vec4<T> window_rect(const ScreenBox<T>& b, const Vec4<T>& viewport) {
+    const T hw = viewport[2] * T(0.5), hh = viewport[3] * T(0.5);
+    return vec4(viewport[0] + (b.lo[0] + T(1)) * hw, viewport[1] + (b.lo[1] + T(1)) * hh,
+                viewport[0] + (b.hi[0] + T(1)) * hw, viewport[1] + (b.hi[1] + T(1)) * hh);
+}
+
+/// Coefficients of the pencil quadratic a b^2 - 2 beta b + c = 0 of two vectors x, y under the
+/// diagonal metric w: a = y^T W y, beta = x^T W y, c = x^T W x, and its discriminant
+/// disc = beta^2 - a c.
+template <class T>
+struct PencilQuadratic {
+    T a, beta, c, disc;
+};
+
+/// `PencilQuadratic` of x and y with weights w (Sigg et al. 2006, eq. 5 with W = D).
+/// The discriminant is evaluated by the Lagrange identity
+/// beta^2 - a c = -sum_{i<j} w_i w_j (x_i y_j - x_j y_i)^2,
+/// which avoids the cancellation of beta^2 against a c for small or distant quadrics.
+/// Numerics: a, beta, c are `dot(cmul(w, .), .)` (left folds); disc is a left fold over the
+/// pairs (0,1), (0,2), ... (N-2,N-1) of -((w_i * w_j) * (m_ij * m_ij)), m_ij = x_i * y_j - x_j * y_i.
+template <class T, int N>
+PencilQuadratic<T> pencil_quadratic(const Vec<T, N>& x, const Vec<T, N>& y, const Vec<T, N>& w) {
+    // Evaluate the three bilinear forms
+    const Vec<T, N> wy = cmul(w, y);
+    const T a = dot(wy, y);
+    const T beta = dot(wy, x);
+    const T c = dot(cmul(w, x), x);
+    // Sum the weighted squared 2x2 minors
+    T disc{};
+    for (int i = 0; i < N; ++i) {
+        for (int j = i + 1; j < N; ++j) {
+            const T m = x[i] * y[j] - x[j] * y[i];
+            const T term = (w[i] * w[j]) * (m * m);
+            if (i == 0 && j == 1) disc = -term;
+            else disc = disc - term;
+        }
+    }
+    return {a, beta, c, disc};
+}
+
+/// The two roots of a b^2 - 2 beta b + c = 0, sorted, and whether they are real and finite.
+template <class T>
+struct PencilRoots {
+    T lo, hi;
+    mask_t<T> real;
+};
+
+/// Roots of `PencilQuadratic` by the stable formula q = beta + sign(beta) sqrt(disc),
+/// b_1 = q / a, b_2 = c / q (no cancellation in q). A vanishing a leaves the single root c / q
+/// (both outputs); a vanishing q (beta = disc = 0) the double root 0 = q / a.
+/// `real` is false when disc < 0 or a = q = 0. Unselected divisions are guarded.
+/// Numerics: q = beta + sign_nonzero(beta) * sqrt(max(disc, 0)); then one division each.
+template <class T>
+PencilRoots<T> pencil_roots(const PencilQuadratic<T>& pq) {
+    // Take the root of larger magnitude without cancellation, the other by Vieta
+    const T s = sqrt(max(pq.disc, T(0)));
+    const T q = pq.beta + sign_nonzero(pq.beta) * s;
+    const mask_t<T> a_ok = pq.a != T(0);
+    const mask_t<T> q_ok = q != T(0);
+    const T by_q = pq.c / select(q_ok, q, T(1));
+    const T by_a = q / select(a_ok, pq.a, T(1));
+    const T r1 = select(a_ok, by_a, by_q);
+    const T r2 = select(q_ok, by_q, by_a);
+    return {min(r1, r2), max(r1, r2), (pq.disc >= T(0)) && (a_ok || q_ok)};
+}
+
+namespace detail {
+
+/// Bounds of one axis of a nondegenerate ellipsoid-type form: roots of eq. 5 and the midpoint.
+template <class T>
+struct AxisSpan {
+    T lo, hi, mid;
+};
+
+template <class T>
+ScreenBox<T> full_screen(const mask_t<T>& valid) {
+    return {vec2(T(-1), T(-1)), vec2(T(1), T(1)), valid};
+}
+
+template <class T>
+ScreenBox<T> or_full_screen(const ScreenBox<T>& b) {
+    return {select(b.valid, b.lo, vec2(T(-1), T(-1))), select(b.valid, b.hi, vec2(T(1), T(1))), b.valid};
+}
+
+/// Slab membership of a homogeneous parameter-space point given by z = num / den, without the
+/// division: den != 0, (num - lo den) den >= 0 and (hi den - num) den >= 0.
+template <class T>
+mask_t<T> in_slab_ratio(const T& num, const T& den, const Vec2<T>& slab) {
+    return (den != T(0)) && ((num - slab[0] * den) * den >= T(0)) && ((slab[1] * den - num) * den >= T(0));
+}
+
+}  // namespace detail
+
+/// Sigg's screen-space bounding box of an ellipsoid (Sigg et al. 2006, eq. 3-5): the NDC lines
+/// x = b touching the quadric are the roots of (r4 D r4) b^2 - 2 (r1 D r4) b + (r1 D r1) = 0 (r2
+/// for y), r_i the rows of `pmt` = P * M * T. `d` must be (1, 1, 1, -1) (D = D^-1 is also the
+/// dual quadric of the unit sphere, so n^T D n = 0 is the tangency condition of eq. 4).
+/// Valid iff the eye plane w_c = 0 (the plane r4 in parameter space) misses the unit sphere,
+/// r4 D r4 < 0, and the centre is in front, r4_w > 0; otherwise the full screen with valid = false.
+/// Numerics: `pencil_quadratic` (Lagrange-identity discriminant) and `pencil_roots`.
+template <class T>
+ScreenBox<T> sigg_bbox(const Mat4<T>& pmt, const Vec4<T>& d) {
+    // Pull the clip-space planes x_c = 0, y_c = 0, w_c = 0 back to parameter space
+    const Vec4<T> r1 = row(pmt, 0), r2 = row(pmt, 1), r4 = row(pmt, 3);
+    const PencilQuadratic<T> qx = pencil_quadratic(r1, r4, d);
+    const PencilQuadratic<T> qy = pencil_quadratic(r2, r4, d);
+    // Accept only a quadric strictly in front of the eye plane
+    const mask_t<T> valid = (qx.a < T(0)) && (r4[3] > T(0));
+    const PencilRoots<T> bx = pencil_roots(qx), by = pencil_roots(qy);
+    return detail::or_full_screen(ScreenBox<T>{vec2(bx.lo, by.lo), vec2(bx.hi, by.hi), valid && bx.real && by.real});
+}
+
+/// Sigg's point-sprite centre in homogeneous clip coordinates (Sigg et al. 2006, sec. 3.2):
+/// v_c = (r1 D r4, r2 D r4, 0, r4 D r4). Divided by its w it is the midpoint of `sigg_bbox`.
+/// Numerics: each entry `dot(cmul(d, r4), r_i)`.
+template <class T>
+Vec4<T> sigg_center(const Mat4<T>& pmt, const Vec4<T>& d) {
+    const Vec4<T> dr4 = cmul(d, row(pmt, 3));
+    return vec4(dot(dr4, row(pmt, 0)), dot(dr4, row(pmt, 1)), T(0), dot(dr4, row(pmt, 3)));
+}
+
+/// Bounding box of the planar slab section ("ellipsoidal cap") of a primitive with
+/// D = (1, 1, d2, d3) at parameter height z = h: the ellipse x^2 + y^2 = rho2, z = h (a point
+/// when rho2 = 0). Its dual is C = diag(rho2, rho2, 0, 0) - e e^T with e = (0, 0, h, 1): a plane
+/// n touches the ellipse iff rho2 (n_x^2 + n_y^2) = (h n_z + n_w)^2. Substituting n = r1 - b r4
+/// gives eq. 5 with C in place of D (Sigg et al. 2006, sec. 3.2, cylinders).
+/// Valid iff the eye plane misses the cap disc (r4 C r4 < 0) and the cap centre is in front
+/// (e . r4 > 0). rho2 < 0 (no section) is treated as the point rho2 = 0.
+/// Numerics: with x' = (x_0, x_1, e . x) and weights (rho2, rho2, -1), `pencil_quadratic` on
+/// the 3-vectors; e . x = (h * x_z) + x_w.
+template <class T>
+ScreenBox<T> cap_bbox(const Mat4<T>& pmt, const T& h, const T& rho2_in) {
+    // Reduce the rows to the cap's 3-dimensional dual form
+    const T rho2 = max(rho2_in, T(0));
+    const Vec4<T> r1 = row(pmt, 0), r2 = row(pmt, 1), r4 = row(pmt, 3);
+    const Vec3<T> w = vec3(rho2, rho2, T(-1));
+    const Vec3<T> x1 = vec3(r1[0], r1[1], h * r1[2] + r1[3]);
+    const Vec3<T> x2 = vec3(r2[0], r2[1], h * r2[2] + r2[3]);
+    const Vec3<T> x4 = vec3(r4[0], r4[1], h * r4[2] + r4[3]);
+    const PencilQuadratic<T> qx = pencil_quadratic(x1, x4, w);
+    const PencilQuadratic<T> qy = pencil_quadratic(x2, x4, w);
+    // Accept only a cap strictly in front of the eye plane
+    const mask_t<T> valid = (qx.a < T(0)) && (x4[2] > T(0));
+    const PencilRoots<T> bx = pencil_roots(qx), by = pencil_roots(qy);
+    return detail::or_full_screen(ScreenBox<T>{vec2(bx.lo, by.lo), vec2(bx.hi, by.hi), valid && bx.real && by.real});
+}
+
+/// Smallest box containing both; valid only if both are.
+template <class T>
+ScreenBox<T> box_union(const ScreenBox<T>& a, const ScreenBox<T>& b) {
+    return detail::or_full_screen(ScreenBox<T>{vec2(min(a.lo[0], b.lo[0]), min(a.lo[1], b.lo[1])),
+                                               vec2(max(a.hi[0], b.hi[0]), max(a.hi[1], b.hi[1])),
+                                               a.valid && b.valid});
+}
+
+/// Bounding box of a slab-clipped primitive with D = (1, 1, d2, d3) and parameter-space clip
+/// range z_lo <= z <= z_hi: the union of the two cap boxes (`cap_bbox`), and, when
+/// `silhouette` is set, the roots of eq. 5 whose touching point lies inside the slab.
+/// The extreme of x_ndc over the clipped surface is either on a cap curve or an interior point
+/// where the plane x = b w touches the surface (a root of eq. 5), so the box is tight.
+/// For ruled kinds (cylinder, cone, one-sheet hyperboloid) every surface point lies on a segment
+/// between the caps: pass `silhouette = false`. Otherwise (paraboloid, two-sheet hyperboloid,
+/// clipped ellipsoid; requires d2, d3 != 0 so that D^-1 = D) the touching point of the plane
+/// n = r1 - b r4 is p = D n, inside iff z_lo <= d2 n_z / (d3 n_w) <= z_hi.
+/// Validity: both caps in front, and (silhouette) every in-slab critical point of w_c on the
+/// surface in front: the levels s = r4_w -+ sqrt(-d3 (n_x^2 + n_y^2 + d2 n_z^2)) (n = r4) where
+/// the plane r4 . p = s p_w touches the surface, their touching points p = D (r4 - s e_w).
+/// `silhouette` is a host-side switch (plain bool), not traced data.
+/// Numerics: as `cap_bbox` and `pencil_roots`; the touching point of a root b is
+/// n = r1 - b * r4 (per component).
+template <class T>
+ScreenBox<T> slab_bbox(const Mat4<T>& pmt, const Vec4<T>& d, const Vec2<T>& slab, bool silhouette) {
+    // Bound the two caps
+    const ScreenBox<T> lo_cap = cap_bbox(pmt, slab[0], section_radius2(d, slab[0]));
+    const ScreenBox<T> hi_cap = cap_bbox(pmt, slab[1], section_radius2(d, slab[1]));
+    ScreenBox<T> box = box_union(lo_cap, hi_cap);
+    if (!silhouette) return box;
+
+    const Vec4<T> r4 = row(pmt, 3);
+    // Check the in-slab extremes of w_c on the surface
+    const T g = -(d[3] * ((r4[0] * r4[0] + r4[1] * r4[1]) + (d[2] * r4[2]) * r4[2]));
+    const mask_t<T> g_ok = g >= T(0);
+    const T sg = sqrt(select(g_ok, g, T(0)));
+    const T zn = d[2] * r4[2];
+    mask_t<T> valid = box.valid;
+    for (int k = 0; k < 2; ++k) {
+        const T root = k == 0 ? -sg : sg;           // x_w - s
+        const T level = r4[3] - root;               // s
+        const mask_t<T> inside = g_ok && detail::in_slab_ratio(zn, d[3] * root, slab);
+        valid = valid && !(inside && (level <= T(0)));
+    }
+
+    // Add the touching points of eq. 5 that lie inside the slab
+    Vec2<T> lo = box.lo, hi = box.hi;
+    for (int axis = 0; axis < 2; ++axis) {
+        const Vec4<T> ri = row(pmt, axis);
+        const PencilRoots<T> b = pencil_roots(pencil_quadratic(ri, r4, d));
+        for (int k = 0; k < 2; ++k) {
+            const T bk = k == 0 ? b.lo : b.hi;
+            const Vec4<T> n = ri - r4 * bk;
+            const mask_t<T> inside = b.real && detail::in_slab_ratio(d[2] * n[2], d[3] * n[3], slab);
+            lo[axis] = select(inside, min(lo[axis], bk), lo[axis]);
+            hi[axis] = select(inside, max(hi[axis], bk), hi[axis]);
+        }
+    }
+    return detail::or_full_screen(ScreenBox<T>{lo, hi, valid});
+}
+
+/// Screen-space bounding box of a primitive for the compound matrix `pmt` = P * M * prim.t:
+/// `sigg_bbox` for ellipsoids, `slab_bbox` (caps, plus the silhouette for non-ruled kinds)
+/// otherwise. Dispatches on the host-side kind.
+template <class T>
+ScreenBox<T> primitive_bbox(const Mat4<T>& pmt, const Primitive<T>& prim) {
+    if (!is_clipped(prim.kind)) return sigg_bbox(pmt, prim.d);
+    return slab_bbox(pmt, prim.d, prim.slab, !is_ruled(prim.kind));
+}
+
+// Ray casting in window coordinates ------------------------------------------------------------
+
+/// Both intersections of the viewing ray of a pixel with a quadric, parametrised by window
+/// depth z_w (Sigg et al. 2006, eq. 6-7).
+template <class T>
+struct WindowHit {
+    mask_t<T> hit;   ///< the ray meets the (unclipped) quadric: real roots
+    T z_near, z_far; ///< window depths, z_near <= z_far (equal for a tangent or linear case)
+    Vec4<T> p_near;  ///< homogeneous parameter-space point x'_p + z_near c_3
+    Vec4<T> p_far;   ///< homogeneous parameter-space point x'_p + z_far c_3
+};
+
+/// Ray-quadric intersection in window coordinates (Sigg et al. 2006, eq. 6-7): the ray
+/// x_w = (x_w, y_w, 0, 1) + z_w (0, 0, 1, 0) is x_p = x'_p + z_w c_3 in parameter space, with
+/// x'_p = (VPMT)^-1 (x_w, y_w, 0, 1) and c_3 the third column of (VPMT)^-1; then
+/// (c3 D c3) z^2 + 2 (x'_p D c3) z + (x'_p D x'_p) = 0.
+/// Roots by the stable formula q = -(B + sign(B) sqrt(B^2 - A C)), z = q / A and C / q, sorted
+/// ascending: for points in front of the eye a smaller window depth is closer (points behind the
+/// eye map beyond the far plane, z_w > 1), so z_near is the visible hit when it is in [0, 1].
+/// Conditioning: for a distant hit x'_p and z c_3 nearly cancel (window depth crowds towards 1),
+/// so in float the hit point carries an error of order eps * (distance / near) relative to
+/// the hit distance, as the depth buffer does; the window-space form cannot do better.
+/// Numerics: x'_p = (m0 * x_w + m1 * y_w) + m3 per component; A, B, C and the discriminant as
+/// `pencil_quadratic(x'_p, c3, d)` (b = -z, Lagrange-identity discriminant); `pencil_roots`;
+/// p = x'_p + c3 * z per component.
+template <class T>
+WindowHit<T> intersect_window(const Mat4<T>& vpmt_inv, const Vec4<T>& d, const T& xw, const T& yw) {
+    // Transform the front-plane point and the ray direction to parameter space
+    const Vec4<T> c3 = vpmt_inv[2];
+    Vec4<T> x0{};
+    for (int i = 0; i < 4; ++i) x0[i] = (vpmt_inv[0][i] * xw + vpmt_inv[1][i] * yw) + vpmt_inv[3][i];
+    // Solve (c3 D c3) z^2 + 2 (x0 D c3) z + x0 D x0 = 0, i.e. eq. 5's form in b = -z
+    const PencilQuadratic<T> pq = pencil_quadratic(x0, c3, d);
+    const PencilRoots<T> b = pencil_roots(pq);
+    const T z_near = -b.hi, z_far = -b.lo;
+    return {b.real, z_near, z_far, x0 + c3 * z_near, x0 + c3 * z_far};
+}
+
+/// The nearest of the two hits whose parameter-space point lies in the slab z_lo <= z <= z_hi
+/// (for clipped primitives; an ellipsoid lies inside its slab [-1, 1], so it gets `z_near`).
+template <class T>
+struct SurfaceHit {
+    mask_t<T> hit;
+    T z;          ///< window depth
+    Vec4<T> p;    ///< homogeneous parameter-space point
+};
+
+/// First root of `intersect_window` whose point is inside the slab (near, else far).
+/// Numerics: slab test without division, (p_z - lo p_w) p_w >= 0 and (hi p_w - p_z) p_w >= 0.
+template <class T>
+SurfaceHit<T> nearest_in_slab(const WindowHit<T>& h, const Vec2<T>& slab) {
+    const mask_t<T> near_in = h.hit && detail::in_slab_ratio(h.p_near[2], h.p_near[3], slab);
+    const mask_t<T> far_in = h.hit && detail::in_slab_ratio(h.p_far[2], h.p_far[3], slab);
+    return {near_in || far_in, select(near_in, h.z_near, h.z_far), select(near_in, h.p_near, h.p_far)};
+}
+
+/// Homogeneous eye-space position of a window point (Sigg et al. 2006, eq. 8):
+/// p_e = (V P)^-1 (x_w, y_w, z_w, 1). Divide by its w for the 3D point.
+/// Numerics: ((m0 * x_w + m1 * y_w) + m2 * z_w) + m3 per component.
+template <class T>
+Vec4<T> window_to_eye(const Mat4<T>& vp_inv, const T& xw, const T& yw, const T& zw) {
+    Vec4<T> r{};
+    for (int i = 0; i < 4; ++i) r[i] = ((vp_inv[0][i] * xw + vp_inv[1][i] * yw) + vp_inv[2][i] * zw) + vp_inv[3][i];
+    return r;
+}
+
+/// Eye-space surface normal (Sigg et al. 2006, eq. 9): n_e = (M T)^-T n_p with the
+/// parameter-space tangent plane n_p = D p, oriented outwards (towards p^T D p > 0) by the sign
+/// of the eye-space homogeneous w of the same point (`window_to_eye(...)[3]`; positive for
+/// points in front of the eye). Not normalised.
+/// Numerics: `mt_inv_t * cmul(d, p)` (row dot products, left folds), xyz times sign_nonzero(w_e).
+template <class T>
+Vec3<T> eye_normal(const Mat4<T>& mt_inv_t, const Vec4<T>& d, const Vec4<T>& p, const T& w_e) {
+    return xyz(mt_inv_t * cmul(d, p)) * sign_nonzero(w_e);
+}
+
+// Sphere-bound quads --------------------------------------------------------------------------
+
+/// A view-space quad whose perspective projection tightly encloses the projection of a sphere.
+template <class T>
+struct SphereQuad {
+    Vec3<T> corner[4];  ///< counter-clockwise seen from the eye: (-,-), (+,-), (+,+), (-,+) in (e1, e2)
+    T half_size;        ///< R = r L / sqrt(L^2 - r^2), L = |centre|
+    mask_t<T> valid;    ///< false when the eye is inside or on the sphere (fall back to full screen)
+};
+
+/// Tight bounding quad of a sphere (centre `c` in view space, eye at the origin, radius `r`), in
+/// the spirit of Stoll et al. 2006 sec. 3 (area of interest tightly enclosing the projection of
+/// the bounding sphere): the silhouette cone from the eye (half-angle a, sin a = r / L) meets the
+/// plane through the centre perpendicular to d = c / L in the circle of radius
+/// R = L tan a = r L / sqrt((L - r)(L + r)); the circumscribed square c +- R e1 +- R e2 projects
+/// to a quadrilateral whose four edges touch the projected silhouette ellipse.
+/// Correct however close the eye is and whatever the view direction: every ray through the
+/// sphere crosses the quad's plane inside the square, at a distance beyond its front hit (so near
+/// plane clipping of the quad never removes a pixel whose front hit survives it; far plane
+/// clipping can: render with depth clamping or write depth in the fragment stage).
+/// e1 = (-d_z, 0, d_x) / |(d_x, d_z)| (the screen x direction when d = -z), (1, 0, 0) if d = +-y;
+/// e2 = cross(e1, d).
+/// Numerics: L = sqrt(dot(c, c)); k2 = (L - r) * (L + r); R = (r * L) / sqrt(k2);
+/// corner = c + (e1 * (s1 * R) + e2 * (s2 * R)).
+template <class T>
+SphereQuad<T> sphere_quad(const Vec3<T>& c, const T& r) {
+    // Measure the distance to the centre and the silhouette circle in the centre plane
+    const T l = length(c);
+    const T k2 = (l - r) * (l + r);
+    const mask_t<T> valid = k2 > T(0);
+    const T k = sqrt(select(valid, k2, T(1)));
+    const T big_r = select(valid, (r * l) / k, T(0));
+    // Build a basis of the plane through the centre perpendicular to the view direction
+    const Vec3<T> dir = c / select(l > T(0), l, T(1));
+    const T e_len2 = dir[0] * dir[0] + dir[2] * dir[2];
+    const mask_t<T> e_ok = e_len2 > T(0);
+    const T e_len = sqrt(select(e_ok, e_len2, T(1)));
+    const Vec3<T> e1 = select(e_ok, vec3(-dir[2] / e_len, T(0), dir[0] / e_len), vec3(T(1), T(0), T(0)));
+    const Vec3<T> e2 = cross(e1, dir);
+    // Place the corners of the circumscribed square
+    SphereQuad<T> q{};
+    const T s1[4] = {T(-1), T(1), T(1), T(-1)};
+    const T s2[4] = {T(-1), T(-1), T(1), T(1)};
+    for (int i = 0; i < 4; ++i) q.corner[i] = c + (e1 * (s1[i] * big_r) + e2 * (s2[i] * big_r));
+    q.half_size = big_r;
+    q.valid = valid;
+    return q;
+}
+
+}  // namespace quadcast
