@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "quadcast/codegen/emit.hpp"
+#include "quadcast/codegen/stages.hpp"
 
 namespace quadcast::codegen {
 
@@ -38,6 +39,10 @@ std::map<std::string, std::string> generate_all() {
         files[comp] = verify_compute_shader(e, k);
         hpp << "    {\"" << e.name << "\", \"" << lib << "\", " << raw_literal(files[lib]) << "},\n";
         hpp << "    {\"" << e.name << ".verify\", \"" << comp << "\", " << raw_literal(files[comp]) << "},\n";
+    }
+    for (const StageShader& st : render_stage_shaders()) {
+        files[st.path] = st.text;
+        hpp << "    {\"" << st.name << "\", \"" << st.path << "\", " << raw_literal(st.text) << "},\n";
     }
     hpp << "};\n\n"
            "/// The generated shader called `name`; an empty source when there is none.\n"

@@ -4,6 +4,8 @@
 #include "kernels/quadric_kernels.hpp"
 #include "kernels/ray_kernels.hpp"
 #include "kernels/bounds_kernels.hpp"
+#include "kernels/render_kernels.hpp"
+#include "kernels/spline_kernels.hpp"
 
 namespace quadcast::codegen {
 
@@ -29,6 +31,28 @@ const std::vector<KernelDef>& registry() {
         make_kernel<SlabBBoxKernel<true>>(),
         make_kernel<WindowRayKernel>(),
         make_kernel<SphereQuadKernel>(),
+        make_kernel<PrimitiveBoundKernel<false>>(),
+        make_kernel<PrimitiveBoundKernel<true>>(),
+        make_kernel<PrimitiveVertexKernel<false>>(),
+        make_kernel<PrimitiveVertexKernel<true>>(),
+        make_kernel<FragmentCastKernel<CastOptions{true, false, false}>>(),
+        make_kernel<FragmentCastKernel<CastOptions{false, false, false}>>(),
+        make_kernel<FragmentCastKernel<CastOptions{true, true, false}>>(),
+        make_kernel<FragmentCastKernel<CastOptions{false, true, false}>>(),
+        make_kernel<FragmentCastKernel<CastOptions{true, false, true}>>(),
+        make_kernel<FragmentCastKernel<CastOptions{false, false, true}>>(),
+        make_kernel<ShadeKernel>(),
+        make_kernel<SplineTet0CoefficientsKernel<2>>(),
+        make_kernel<SplineTet0CoefficientsKernel<3>>(),
+        make_kernel<SplineBarycentricKernel>(),
+        make_kernel<RestrictKernel<2>>(),
+        make_kernel<RestrictKernel<3>>(),
+        make_kernel<RestrictFromFirstStepKernel>(),
+        make_kernel<QuadraticFirstRootKernel>(),
+        make_kernel<CubicFirstRootKernel>(),
+        make_kernel<CubicFirstRootNewtonKernel>(),
+        make_kernel<ValueGradientKernel<2>>(),
+        make_kernel<ValueGradientKernel<3>>(),
     };
     return all;
 }

@@ -58,12 +58,12 @@ std::vector<std::uint32_t> make_inputs(const KernelDef& k, std::size_t count, st
     const int n = io.signature().input_words();
     std::vector<std::uint32_t> words(count * static_cast<std::size_t>(n));
     std::vector<float> sample(static_cast<std::size_t>(n));
+    std::mt19937 mt(static_cast<std::uint32_t>(seed));  // one engine for the structured samples (seeding is costly)
     for (std::size_t i = 0; i < count; ++i) {
         SplitMix r{seed * 0x2545F4914F6CDD1Dull + i};
         const int kind = r.below(100);
         const float scale = std::ldexp(1.0f, r.below(81) - 40);
         if (kind < 40 && k.generate) {
-            std::mt19937 mt(static_cast<std::uint32_t>(r.next64()));
             k.generate(mt, sample);
         } else if (kind < 70) {
             for (float& v : sample) v = r.uniform(-1.0f, 1.0f) * scale;

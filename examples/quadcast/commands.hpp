@@ -10,4 +10,7 @@ void add_verify(CLI::App& app);
 /// `quadcast bench stability`: float error of the root formulations against an MPFR reference.
 void add_bench_stability(CLI::App& bench);
 
+/// `quadcast render SCENE.json -o out.png`: renders a scene with GL (or the CPU reference).
+void add_render(CLI::App& app);
+
 }  // namespace quadcast::cli

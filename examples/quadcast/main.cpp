@@ -7,6 +7,7 @@ int main(int argc, char** argv) {
     CLI::App app{"quadcast: GPU ray casting of quadrics and trivariate splines"};
     app.require_subcommand(1);
     quadcast::cli::add_verify(app);
+    quadcast::cli::add_render(app);
     CLI::App* bench = app.add_subcommand("bench", "benchmarks (ratios measured in one run)");
     bench->require_subcommand(1);
     quadcast::cli::add_bench_stability(*bench);

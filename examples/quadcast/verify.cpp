@@ -1,4 +1,5 @@
 // examples/quadcast/verify.cpp -- `quadcast verify`: the generated kernels on this GL against the CPU
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <iostream>
@@ -51,8 +52,19 @@ int run_verify(const VerifyOptions& opt) {
         const auto inputs = codegen::make_inputs(k, opt.count, opt.seed);
         const auto expected = codegen::run_cpu(k, inputs, opt.count);
         gl::ComputeRunner runner(ctx->api(), source, name + ".verify.comp");
-        const auto gpu = runner.run(inputs, opt.count, expected.size());
-        const codegen::Comparison c = codegen::compare(emitted.signature, inputs, expected, gpu.output, opt.count);
+        // Runs in chunks when the buffers would exceed GL_MAX_SHADER_STORAGE_BLOCK_SIZE (kernels
+        // with many inputs, e.g. the 56 values of an S31 determining set).
+        const std::size_t nin = static_cast<std::size_t>(emitted.signature.input_words());
+        const std::size_t nout = static_cast<std::size_t>(emitted.signature.output_words());
+        const std::size_t per_sample = 4 * std::max<std::size_t>({nin, nout, 1});
+        const std::size_t chunk = std::max<std::size_t>(1, std::min<std::size_t>(opt.count, runner.max_buffer_bytes() / per_sample));
+        std::vector<std::uint32_t> gpu(expected.size());
+        for (std::size_t first = 0; first < opt.count; first += chunk) {
+            const std::size_t n = std::min(chunk, opt.count - first);
+            runner.run_into(std::span<const std::uint32_t>(inputs).subspan(first * nin, n * nin), n,
+                            std::span<std::uint32_t>(gpu).subspan(first * nout, n * nout));
+        }
+        const codegen::Comparison c = codegen::compare(emitted.signature, inputs, expected, gpu, opt.count);
         const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         std::string ops;
         for (const auto& o : emitted.ops) ops += (ops.empty() ? "" : " ") + o;

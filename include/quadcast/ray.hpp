@@ -375,20 +375,34 @@ struct RayQuadratic {
 /// Where the quadratic is nearly linear (`is_linear_case`: |alpha gamma| <= tau beta^2, x0 is
 /// far away and nothing cancels) and where alpha = 0, the error-free `discriminant_accurate` is
 /// used instead.
-/// Numerics: g = A o + b (left folds); alpha = dot(v, A v); beta = dot(g, v);
-/// gamma = dot(o, g + b) + c (= f(o)); lambda0 = -beta / alpha; x0 = o + lambda0 v;
-/// f(x0) = `evaluate`; disc = -(alpha f(x0)). One division more than eq. 10.
+/// Numerics: g = A o + b, a = A v (left folds), then `ray_quadratic_incremental`.
+/// One division more than eq. 10.
 template <class T>
 RayQuadratic<T> ray_quadratic_local(const Quadric<T>& q_local, const Vec3<T>& o, const Vec3<T>& v) {
     const Mat3<T> A = upper3(q_local.q);
+    return ray_quadratic_incremental(q_local, o, v, A * o + xyz(q_local.q[3]), A * v);
+}
+
+/// `ray_quadratic_local` from terms that are linear in the ray, g = A o + b and a = A v: the
+/// form of incremental ray casting (Stoll et al. 2006, sec. 5), where the per-primitive stage
+/// computes o, v, g, a at the corners of the bounding geometry, the rasteriser interpolates them
+/// and the per-fragment stage finishes here. With g and a computed exactly as in
+/// `ray_quadratic_local` the result is the same bits.
+/// Numerics: alpha = dot(v, a); beta = dot(g, v); gamma = dot(o, g + b) + c; lambda0 =
+/// -beta / alpha; x0 = o + lambda0 v; A x0 + b = g + lambda0 a; f(x0) = dot(x0, (g + lambda0 a)
+/// + b) + c; disc = -(alpha f(x0)), or `discriminant_accurate` in the linear case.
+template <class T>
+RayQuadratic<T> ray_quadratic_incremental(const Quadric<T>& q_local, const Vec3<T>& o, const Vec3<T>& v,
+                                          const Vec3<T>& g, const Vec3<T>& a) {
     const Vec3<T> b = xyz(q_local.q[3]);
+    const T c0 = q_local.q[3][3];
     // Coefficients of eq. 6 with the eye at o.
-    const Vec3<T> g = A * o + b;
-    const RayCoefficients<T> c{dot(v, A * v), dot(g, v), dot(o, g + b) + q_local.q[3][3]};
+    const RayCoefficients<T> c{dot(v, a), dot(g, v), dot(o, g + b) + c0};
     // The discriminant at the extremum of the quadratic along the ray.
     const mask_t<T> geometric = (c.alpha != T(0)) && !is_linear_case(c);
     const T lambda0 = -c.beta / select(geometric, c.alpha, T(1));
-    const T f0 = evaluate(q_local, o + lambda0 * v);
+    const Vec3<T> x0 = o + lambda0 * v;
+    const T f0 = dot(x0, (g + lambda0 * a) + b) + c0;
     const T disc = select(geometric, -(c.alpha * f0), discriminant_accurate(c));
     return {c, disc};
 }

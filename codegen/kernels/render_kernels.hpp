@@ -1,0 +1,182 @@
+// codegen/kernels/render_kernels.hpp -- the per-primitive and per-fragment kernels of the quadric renderer
+#pragma once
+
+#include <string>
+
+#include "kernels/common.hpp"
+#include "quadcast/bounds.hpp"
+#include "quadcast/raycast.hpp"
+
+namespace quadcast::codegen::kernels {
+
+/// Reads a QuadricPrimitive's fields as kernel inputs (the fragment stage reads them from the
+/// primitive's record).
+template <class IO>
+QuadricPrimitive<typename IO::T> primitive_inputs(IO& io) {
+    using T = typename IO::T;
+    QuadricPrimitive<T> p{};
+    p.q = Quadric<T>{io.template mat<4>("q")};
+    p.center = io.template vec<3>("center");
+    p.radius = io.scalar("radius");
+    p.axis = io.template vec<3>("axis");
+    p.half_length = io.scalar("half_length");
+    return p;
+}
+
+inline void put_primitive(std::mt19937& rng, std::span<float> in, std::size_t& p) {
+    // A local quadric (centred), its bound and slab.
+    Mat4<float> q = random_quadric(rng);
+    for (int i = 0; i < 3; ++i) q[3][i] = q[i][3] = q[3][i] * 0.01f;
+    put(in, p, q);
+    put(in, p, random_point(rng, 50.0f));
+    put(in, p, uniform(rng, 0.2f, 3.0f));
+    put(in, p, random_direction(rng));
+    put(in, p, uniform(rng, 0.1f, 2.0f));
+}
+
+/// Per primitive, in the vertex stage: the bounding quad of the primitive's bounding sphere, in
+/// view space (`sphere_quad` for perspective; the square of half-size r around the centre for
+/// orthographic cameras).
+template <bool Ortho>
+struct PrimitiveBoundKernel {
+    static constexpr const char* name = Ortho ? "primitive_bound_ortho" : "primitive_bound_perspective";
+    static constexpr const char* source = "quadcast::sphere_quad (quadcast/bounds.hpp)";
+    static constexpr const char* summary = "view-space bounding quad of a primitive's bounding sphere";
+    template <class IO> static void run(IO& io) {
+        using T = typename IO::T;
+        const Mat4<T> view = io.template mat<4>("view");
+        const Vec3<T> center = io.template vec<3>("center");
+        const T r = io.scalar("radius");
+        const Vec3<T> c = xyz(view * vec4(center, T(1)));
+        SphereQuad<T> sq{};
+        if constexpr (Ortho) {
+            const T s1[4] = {T(-1), T(1), T(1), T(-1)};
+            const T s2[4] = {T(-1), T(-1), T(1), T(1)};
+            for (int i = 0; i < 4; ++i) sq.corner[i] = vec3(c[0] + s1[i] * r, c[1] + s2[i] * r, c[2]);
+            sq.valid = mask_t<T>(true);
+        } else {
+            sq = sphere_quad(c, r);
+        }
+        for (int i = 0; i < 4; ++i) io.out("corner" + std::to_string(i), sq.corner[i]);
+        io.out("valid", sq.valid);
+    }
+    static void generate(std::mt19937& rng, std::span<float> in) {
+        std::size_t p = 0;
+        Mat4<float> v = identity<float, 4>();
+        const Vec3<float> z = random_direction(rng), t = random_direction(rng);
+        const Vec3<float> x = normalize(cross(t, z)), y = cross(z, x);
+        for (int j = 0; j < 3; ++j) { v[j][0] = x[j]; v[j][1] = y[j]; v[j][2] = z[j]; }
+        v[3] = vec4(random_point(rng, 20.0f), 1.0f);
+        put(in, p, v);
+        put(in, p, random_point(rng, 30.0f));
+        put(in, p, uniform(rng, 0.1f, 3.0f));
+    }
+};
+
+/// Per vertex of the bounding quad: the world-space ray through the corner and the local ray
+/// terms o, v, g, a (`local_ray`), plus per-quadric back-face culling against the bounding
+/// sphere (Stoll et al. 2006, sec. 4.4.4; perspective only: an orthographic camera has no single eye).
+template <bool Ortho>
+struct PrimitiveVertexKernel {
+    static constexpr const char* name = Ortho ? "primitive_vertex_ortho" : "primitive_vertex_perspective";
+    static constexpr const char* source = "quadcast::local_ray (quadcast/raycast.hpp), quadcast::cull_sphere (quadcast/cull.hpp)";
+    static constexpr const char* summary = "incremental ray casting: the ray terms at a corner of the bounding quad";
+    template <class IO> static void run(IO& io) {
+        using T = typename IO::T;
+        const QuadricPrimitive<T> p = primitive_inputs(io);
+        const Vec3<T> corner = io.template vec<3>("corner_view");
+        const Mat3<T> rot_inv = io.template mat<3>("view_rot_inv");
+        const Vec3<T> eye = io.template vec<3>("eye");
+        Vec3<T> origin{}, dir{};
+        if constexpr (Ortho) {
+            origin = eye + (rot_inv[0] * corner[0] + rot_inv[1] * corner[1]);
+            dir = -rot_inv[2];
+        } else {
+            origin = eye;
+            dir = rot_inv * corner;
+        }
+        const LocalRay<T> r = local_ray(p, origin, dir);
+        io.out("o", r.o);
+        io.out("v", r.v);
+        io.out("g", r.g);
+        io.out("a", r.a);
+        if constexpr (Ortho) io.out("culled", mask_t<T>(false));
+        else io.out("culled", cull_sphere(p.q, r.o, vec3(T(0), T(0), T(0)), p.radius));
+    }
+    static void generate(std::mt19937& rng, std::span<float> in) {
+        std::size_t p = 0;
+        put_primitive(rng, in, p);
+        put(in, p, random_point(rng, 10.0f));
+        Mat3<float> r = identity<float, 3>();
+        const Vec3<float> z = random_direction(rng), t = random_direction(rng);
+        const Vec3<float> x = normalize(cross(t, z)), y = cross(z, x);
+        r[0] = x; r[1] = y; r[2] = z;
+        put(in, p, r);
+        put(in, p, random_point(rng, 60.0f));
+    }
+};
+
+/// Name of a fragment-stage variant: fragment_<closed|slab|bounded>[_nocull].
+constexpr const char* fragment_kernel_name(CastOptions o) {
+    if (o.slab) return o.cull ? "fragment_slab" : "fragment_slab_nocull";
+    if (o.bound) return o.cull ? "fragment_bounded" : "fragment_bounded_nocull";
+    return o.cull ? "fragment_closed" : "fragment_closed_nocull";
+}
+
+/// Per fragment: cast the interpolated ray (`cast`), its window depth (`window_depth`) and the
+/// normal. A hit must lie between the near and far planes (depth in [0, 1]).
+template <CastOptions Opt>
+struct FragmentCastKernel {
+    static constexpr const char* name = fragment_kernel_name(Opt);
+    static constexpr const char* source = "quadcast::cast, quadcast::window_depth (quadcast/raycast.hpp)";
+    static constexpr const char* summary = "incremental ray casting: a fragment's hit, depth and normal (Stoll et al. 2006, sec. 5)";
+    template <class IO> static void run(IO& io) {
+        using T = typename IO::T;
+        const QuadricPrimitive<T> p = primitive_inputs(io);
+        const LocalRay<T> r{io.template vec<3>("o"), io.template vec<3>("v"), io.template vec<3>("g"), io.template vec<3>("a")};
+        const Vec3<T> vz_row = io.template vec<3>("vz_row");
+        const Vec4<T> pz = io.template vec<4>("pz");
+        const CastHit<T> h = cast<Opt>(p, r);
+        const T depth = window_depth(h.lambda, dot(vz_row, r.v), pz);
+        io.out("hit", (h.hit && depth >= T(0)) && depth <= T(1));
+        io.out("depth", depth);
+        io.out("normal", h.normal);
+    }
+    static void generate(std::mt19937& rng, std::span<float> in) {
+        std::size_t p = 0;
+        put_primitive(rng, in, p);
+        const Vec3<float> o = random_direction(rng) * uniform(rng, 1.0f, 100.0f);
+        const Vec3<float> v = normalize(random_point(rng, 1.0f) - o);
+        put(in, p, o);
+        put(in, p, v);
+        put(in, p, random_point(rng, 10.0f));  // g, a: any values exercise the formulas
+        put(in, p, random_point(rng, 1.0f));
+        put(in, p, random_direction(rng));
+        put(in, p, vec4(-1.002f, -0.2002f, -1.0f, 0.0f));
+    }
+};
+
+/// Shading: Blinn-Phong with one directional light (`shade_blinn_phong`).
+struct ShadeKernel {
+    static constexpr const char* name = "shade_blinn_phong";
+    static constexpr const char* source = "quadcast::shade_blinn_phong (quadcast/raycast.hpp)";
+    static constexpr const char* summary = "Blinn-Phong shading, Schlick's rational specular lobe";
+    template <class IO> static void run(IO& io) {
+        using T = typename IO::T;
+        const Vec3<T> n = io.template vec<3>("n"), l = io.template vec<3>("l"), e = io.template vec<3>("e");
+        const Vec3<T> color = io.template vec<3>("color"), light = io.template vec<3>("light");
+        const Vec4<T> material = io.template vec<4>("material");
+        io.out("rgb", shade_blinn_phong(n, l, e, color, light, material));
+    }
+    static void generate(std::mt19937& rng, std::span<float> in) {
+        std::size_t p = 0;
+        put(in, p, random_direction(rng));
+        put(in, p, random_direction(rng));
+        put(in, p, random_direction(rng));
+        put(in, p, vec3(uniform(rng, 0.0f, 1.0f), uniform(rng, 0.0f, 1.0f), uniform(rng, 0.0f, 1.0f)));
+        put(in, p, vec3(1.0f, 1.0f, 1.0f));
+        put(in, p, vec4(0.15f, 0.85f, 0.35f, uniform(rng, 1.0f, 128.0f)));
+    }
+};
+
+}  // namespace quadcast::codegen::kernels

@@ -1,0 +1,151 @@
+// examples/render/scene_render.cpp -- from a loaded scene to what the renderers draw
+#include "scene_render.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+#include "quadcast/quadric.hpp"
+
+namespace quadcast::render {
+
+namespace {
+
+using V3 = Vec3<double>;
+
+Vec3<float> to_f(const V3& v) { return cast<float>(v); }
+
+Primitive make(const Quadric<double>& q_local, const V3& center, double radius, Variant variant, const V3& color,
+               const V3& axis = V3{{0.0, 0.0, 1.0}}, double half_length = 0.0) {
+    Primitive p{};
+    p.shape.q.q = cast<float>(q_local.q);
+    p.shape.center = to_f(center);
+    p.shape.radius = static_cast<float>(radius);
+    p.shape.axis = to_f(axis);
+    p.shape.half_length = static_cast<float>(half_length);
+    p.variant = variant;
+    p.color = to_f(color);
+    return p;
+}
+
+Quadric<double> sphere_local(double r) {
+    Quadric<double> q{identity<double, 4>()};
+    q.q[3][3] = -r * r;
+    return q;
+}
+
+/// A = M^-T M^-1 for the semi-axis matrix M = (u v w): x^T A x - 1 = 0.
+Quadric<double> ellipsoid_local(const std::array<V3, 3>& axes) {
+    Mat3<double> m{};
+    for (int j = 0; j < 3; ++j) m[j] = axes[static_cast<std::size_t>(j)];
+    double d = 0;
+    const Mat3<double> n = inverse(m, d);
+    if (!(std::fabs(d) > 0)) throw std::invalid_argument("ellipsoid with degenerate axes");
+    const Mat3<double> a = transpose(n) * n;
+    Quadric<double> q{zero_mat<double, 4, 4>()};
+    for (int j = 0; j < 3; ++j) for (int i = 0; i < 3; ++i) q.q[j][i] = a[j][i];
+    q.q[3][3] = -1.0;
+    return q;
+}
+
+/// |x|^2 - (1 + k^2)(a.x)^2 + k^2 H (a.x) - k^2 H^2 / 4 with a from base to apex, origin at the
+/// midpoint: the cone of slope k = r / H through the apex, f <= 0 inside.
+Quadric<double> cone_local(const V3& a, double k2, double H) {
+    Quadric<double> q{identity<double, 4>()};
+    for (int j = 0; j < 3; ++j) for (int i = 0; i < 3; ++i) q.q[j][i] -= (1.0 + k2) * a[i] * a[j];
+    for (int i = 0; i < 3; ++i) q.q[3][i] = q.q[i][3] = 0.5 * k2 * H * a[i];
+    q.q[3][3] = -0.25 * k2 * H * H;
+    return q;
+}
+
+}  // namespace
+
+Mat4<double> look_at(const V3& eye, const V3& target, const V3& up) {
+    const V3 f = normalize(target - eye);
+    const V3 s = normalize(cross(f, up));
+    const V3 u = cross(s, f);
+    Mat4<double> m = identity<double, 4>();
+    for (int j = 0; j < 3; ++j) { m[j][0] = s[j]; m[j][1] = u[j]; m[j][2] = -f[j]; }
+    m[3][0] = -dot(s, eye);
+    m[3][1] = -dot(u, eye);
+    m[3][2] = dot(f, eye);
+    return m;
+}
+
+Mat4<double> perspective(double fov_y_deg, double aspect, double n, double f) {
+    const double t = 1.0 / std::tan(fov_y_deg * M_PI / 360.0);
+    Mat4<double> p = zero_mat<double, 4, 4>();
+    p[0][0] = t / aspect;
+    p[1][1] = t;
+    p[2][2] = -(f + n) / (f - n);
+    p[2][3] = -1.0;
+    p[3][2] = -2.0 * f * n / (f - n);
+    return p;
+}
+
+Mat4<double> orthographic(double height, double aspect, double n, double f) {
+    Mat4<double> p = identity<double, 4>();
+    p[0][0] = 2.0 / (height * aspect);
+    p[1][1] = 2.0 / height;
+    p[2][2] = -2.0 / (f - n);
+    p[3][2] = -(f + n) / (f - n);
+    return p;
+}
+
+Frame build_frame(const scene::Scene& s, int width, int height) {
+    Frame fr;
+    for (const auto& x : s.spheres) fr.primitives.push_back(make(sphere_local(x.radius), x.center, x.radius, Variant::closed, x.material.color));
+    for (const auto& x : s.ellipsoids) {
+        double r = 0;
+        for (const V3& a : x.axes) r = std::max(r, length(a));
+        fr.primitives.push_back(make(ellipsoid_local(x.axes), x.center, r, Variant::closed, x.material.color));
+    }
+    for (const auto& x : s.cylinders) {
+        const V3 d = x.p1 - x.p0;
+        const double h = 0.5 * length(d);
+        const V3 a = d / (2.0 * h);
+        Quadric<double> q{identity<double, 4>()};
+        for (int j = 0; j < 3; ++j) for (int i = 0; i < 3; ++i) q.q[j][i] -= a[i] * a[j];
+        q.q[3][3] = -x.radius * x.radius;
+        fr.primitives.push_back(make(q, 0.5 * (x.p0 + x.p1), std::sqrt(x.radius * x.radius + h * h), Variant::slab, x.material.color, a, h));
+    }
+    for (const auto& x : s.cones) {
+        const V3 d = x.apex - x.base;
+        const double H = length(d);
+        const V3 a = d / H;
+        const double k2 = (x.radius / H) * (x.radius / H);
+        fr.primitives.push_back(make(cone_local(a, k2, H), 0.5 * (x.apex + x.base), std::sqrt(x.radius * x.radius + 0.25 * H * H), Variant::slab,
+                                     x.material.color, a, 0.5 * H));
+    }
+    std::size_t tet_bound = 0;
+    for (const auto& x : s.quadrics) {
+        if (x.bound != scene::Quadric::Bound::sphere) { ++tet_bound; continue; }
+        const Quadric<double> local = translate_to_eye(Quadric<double>{x.q}, x.sphere.center);
+        fr.primitives.push_back(make(local, x.sphere.center, x.sphere.radius, Variant::bounded, x.material.color));
+    }
+    if (tet_bound) fr.notes.push_back(std::to_string(tet_bound) + " quadric(s) with a tetrahedron bound are not drawn yet (sphere bounds only)");
+    if (!s.quads.empty()) fr.notes.push_back(std::to_string(s.quads.size()) + " bilinear quad(s) are not drawn yet (they need the tetrahedron-bound pipeline)");
+
+    const scene::Camera& c = s.camera;
+    const double aspect = static_cast<double>(width) / static_cast<double>(height);
+    fr.camera.view = cast<float>(look_at(c.eye, c.target, c.up));
+    fr.camera.orthographic = c.projection == scene::Projection::orthographic;
+    fr.camera.projection = cast<float>(fr.camera.orthographic ? orthographic(c.height, aspect, c.near, c.far) : perspective(c.fov_y_deg, aspect, c.near, c.far));
+    fr.camera.eye = cast<float>(c.eye);
+    if (!s.lights.empty()) {
+        const scene::Light& l = s.lights.front();
+        fr.light.direction = cast<float>(l.kind == scene::Light::Kind::directional ? l.direction : s.bounds().center() - l.position);
+        fr.light.color = cast<float>(l.color * l.intensity);
+        if (s.lights.size() > 1) fr.notes.push_back("only the first light is used");
+    } else {
+        fr.light.direction = vec3(-1.0f, -1.0f, -1.0f);
+    }
+    fr.options.width = width;
+    fr.options.height = height;
+    fr.options.culling = s.options.culling;
+    fr.options.background = cast<float>(s.options.background);
+    if (s.options.deferred || s.options.shadows || s.options.silhouettes)
+        fr.notes.push_back("deferred shading, shadows and silhouettes are not implemented yet: forward Phong shading");
+    return fr;
+}
+
+}  // namespace quadcast::render

@@ -1,0 +1,237 @@
+// quadcast/gl/quadric_renderer.hpp -- OpenGL 4.5 renderer of quadric primitives (generated shaders)
+#pragma once
+// Host-only. One record per primitive in a shader storage buffer, pulled by gl_VertexID (no
+// vertex attributes, no display lists): 6 vertices = one bounding quad per primitive. The
+// vertex stage does the per-primitive work once per corner (bounding quad, ray terms, culling),
+// the fragment stage casts the interpolated ray (incremental ray casting). Shaders come from
+// quadcast/generated/shaders.hpp: one variant per (primitive kind, culling, camera model); a
+// scene compiles only the variants it uses.
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "quadcast/generated/shaders.hpp"
+#include "quadcast/gl/loader.hpp"
+#include "quadcast/gl/program.hpp"
+#include "quadcast/render/types.hpp"
+
+namespace quadcast::gl {
+
+/// The std430 record of one primitive; matches `qc_Primitive` in the generated shaders.
+struct PrimitiveRecord {
+    float q0[4];      ///< A00 A01 A02 A11
+    float q1[4];      ///< A12 A22 b0 b1
+    float q2[4];      ///< b2 c radius half_length
+    float center[4];
+    float axis[4];
+    float color[4];
+};
+static_assert(sizeof(PrimitiveRecord) == 96);
+
+/// Packs a primitive into its record (reads the upper triangle of the local quadric).
+inline PrimitiveRecord pack(const render::Primitive& p) {
+    const Mat4<float>& q = p.shape.q.q;
+    return PrimitiveRecord{{q[0][0], q[1][0], q[2][0], q[1][1]},
+                           {q[2][1], q[2][2], q[3][0], q[3][1]},
+                           {q[3][2], q[3][3], p.shape.radius, p.shape.half_length},
+                           {p.shape.center[0], p.shape.center[1], p.shape.center[2], 0.0f},
+                           {p.shape.axis[0], p.shape.axis[1], p.shape.axis[2], 0.0f},
+                           {p.color[0], p.color[1], p.color[2], 1.0f}};
+}
+
+/// Renders primitives into an offscreen framebuffer (RGBA8 colour, 32-bit float depth) of the
+/// context current when it is constructed. Not thread-safe (GL contexts are not).
+class QuadricRenderer {
+public:
+    explicit QuadricRenderer(const Api& api) : api_(&api) {
+        api.GenVertexArrays(1, &vao_);
+        api.GenBuffers(1, &ssbo_);
+    }
+    ~QuadricRenderer() {
+        release_fbo();
+        api_->DeleteBuffers(1, &ssbo_);
+        api_->DeleteVertexArrays(1, &vao_);
+    }
+    QuadricRenderer(const QuadricRenderer&) = delete;
+    QuadricRenderer& operator=(const QuadricRenderer&) = delete;
+
+    /// Uploads the primitives (grouped by variant). Call again when they change.
+    void set_primitives(const std::vector<render::Primitive>& prims) {
+        std::vector<PrimitiveRecord> records;
+        records.reserve(prims.size());
+        for (int v = 0; v < render::variant_count; ++v) {
+            ranges_[v] = {static_cast<std::uint32_t>(records.size()), 0};
+            for (const auto& p : prims)
+                if (static_cast<int>(p.variant) == v) records.push_back(pack(p));
+            ranges_[v].second = static_cast<std::uint32_t>(records.size()) - ranges_[v].first;
+        }
+        api_->BindBuffer(GL_SHADER_STORAGE_BUFFER, ssbo_);
+        api_->BufferData(GL_SHADER_STORAGE_BUFFER, static_cast<GLsizeiptr>(std::max<std::size_t>(1, records.size()) * sizeof(PrimitiveRecord)),
+                         records.empty() ? nullptr : records.data(), GL_STATIC_DRAW);
+        api_->BindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
+        count_ = records.size();
+    }
+
+    /// Draws one frame into the offscreen framebuffer and waits for it (glFinish).
+    void draw(const render::Camera& cam, const render::Light& light, const render::RenderOptions& opt) {
+        const Api& gl = *api_;
+        ensure_fbo(opt.width, opt.height);
+        gl.BindFramebuffer(GL_FRAMEBUFFER, fbo_);
+        gl.Viewport(0, 0, opt.width, opt.height);
+        const float bg[4] = {opt.background[0], opt.background[1], opt.background[2], 1.0f};
+        const float one = 1.0f;
+        gl.ClearBufferfv(GL_COLOR, 0, bg);
+        gl.ClearBufferfv(GL_DEPTH, 0, &one);
+        gl.Enable(GL_DEPTH_TEST);
+        gl.DepthFunc(GL_LESS);
+        gl.BindVertexArray(vao_);
+        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, ssbo_);
+        for (int v = 0; v < render::variant_count; ++v) {
+            if (ranges_[v].second == 0) continue;
+            const Program& prog = program(static_cast<render::Variant>(v), opt.culling, cam.orthographic);
+            gl.UseProgram(prog.id());
+            set_uniforms(prog, cam, light, opt);
+            gl.Uniform1ui(prog.uniform_location("qc_first"), ranges_[v].first);
+            gl.DrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(6 * ranges_[v].second));
+        }
+        gl.UseProgram(0);
+        gl.BindVertexArray(0);
+        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, 0);
+        gl.Finish();
+        check_errors(gl, "QuadricRenderer::draw");
+    }
+
+    /// Reads back the last frame (rows top first, like the CPU renderer).
+    render::Image read() const {
+        const Api& gl = *api_;
+        render::Image img;
+        img.width = width_;
+        img.height = height_;
+        std::vector<std::uint8_t> rgba(static_cast<std::size_t>(width_) * height_ * 4);
+        std::vector<float> depth(static_cast<std::size_t>(width_) * height_);
+        gl.BindFramebuffer(GL_READ_FRAMEBUFFER, fbo_);
+        gl.PixelStorei(GL_PACK_ALIGNMENT, 1);
+        gl.ReadPixels(0, 0, width_, height_, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
+        gl.ReadPixels(0, 0, width_, height_, GL_DEPTH_COMPONENT, GL_FLOAT, depth.data());
+        gl.BindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+        img.rgba.resize(rgba.size());
+        img.depth.resize(depth.size());
+        const std::size_t row = static_cast<std::size_t>(width_);
+        for (int y = 0; y < height_; ++y) {
+            const std::size_t src = static_cast<std::size_t>(height_ - 1 - y) * row, dst = static_cast<std::size_t>(y) * row;
+            std::copy_n(rgba.begin() + static_cast<std::ptrdiff_t>(src * 4), row * 4, img.rgba.begin() + static_cast<std::ptrdiff_t>(dst * 4));
+            std::copy_n(depth.begin() + static_cast<std::ptrdiff_t>(src), row, img.depth.begin() + static_cast<std::ptrdiff_t>(dst));
+        }
+        return img;
+    }
+
+    std::size_t primitive_count() const { return count_; }
+
+private:
+    const Program& program(render::Variant v, bool cull, bool ortho) {
+        static const char* names[] = {"closed", "slab", "bounded"};
+        const std::string variant = std::string(names[static_cast<int>(v)]) + (cull ? "" : "_nocull");
+        const std::string proj = ortho ? "ortho" : "perspective";
+        const std::string key = variant + "_" + proj;
+        auto it = programs_.find(key);
+        if (it != programs_.end()) return *it->second;
+        const std::string vs = "qc_quadric_" + proj + ".vert", fs = "qc_quadric_" + variant + "_" + proj + ".frag";
+        const std::string_view vsrc = generated::find(vs), fsrc = generated::find(fs);
+        if (vsrc.empty() || fsrc.empty()) throw std::runtime_error("quadcast::gl::QuadricRenderer: no generated shader " + (vsrc.empty() ? vs : fs));
+        auto prog = std::make_unique<Program>(make_program(*api_, key, {{GL_VERTEX_SHADER, vsrc}, {GL_FRAGMENT_SHADER, fsrc}}));
+        return *programs_.emplace(key, std::move(prog)).first->second;
+    }
+
+    void set_uniforms(const Program& p, const render::Camera& cam, const render::Light& light, const render::RenderOptions& opt) const {
+        const Api& gl = *api_;
+        float view[16], proj[16], rot_inv[9];
+        for (int j = 0; j < 4; ++j)
+            for (int i = 0; i < 4; ++i) { view[j * 4 + i] = cam.view[j][i]; proj[j * 4 + i] = cam.projection[j][i]; }
+        // The inverse of a rotation is its transpose: column j of R^T is row j of R.
+        for (int j = 0; j < 3; ++j)
+            for (int i = 0; i < 3; ++i) rot_inv[j * 3 + i] = cam.view[i][j];
+        const float vz_row[3] = {cam.view[0][2], cam.view[1][2], cam.view[2][2]};
+        const float pz[4] = {cam.projection[2][2], cam.projection[3][2], cam.projection[2][3], cam.projection[3][3]};
+        const auto near = near_corners(cam);
+        gl.UniformMatrix4fv(p.uniform_location("qc_view"), 1, GL_FALSE, view);
+        gl.UniformMatrix4fv(p.uniform_location("qc_projection"), 1, GL_FALSE, proj);
+        gl.UniformMatrix3fv(p.uniform_location("qc_view_rot_inv"), 1, GL_FALSE, rot_inv);
+        gl.Uniform3fv(p.uniform_location("qc_eye"), 1, cam.eye.c);
+        gl.Uniform3fv(p.uniform_location("qc_near_corners"), 4, near.data());
+        gl.Uniform1i(p.uniform_location("qc_cull"), opt.culling && !cam.orthographic ? 1 : 0);
+        gl.Uniform3fv(p.uniform_location("qc_vz_row"), 1, vz_row);
+        gl.Uniform4fv(p.uniform_location("qc_pz"), 1, pz);
+        gl.Uniform3fv(p.uniform_location("qc_light_dir"), 1, light.direction.c);
+        gl.Uniform3fv(p.uniform_location("qc_light_color"), 1, light.color.c);
+        gl.Uniform4fv(p.uniform_location("qc_material"), 1, opt.material.c);
+    }
+
+    /// View-space corners of the near-plane rectangle (for primitives whose bounding sphere
+    /// contains the eye), slightly inside the near plane so they are not clipped.
+    static std::array<float, 12> near_corners(const render::Camera& cam) {
+        const auto& P = cam.projection;
+        std::array<float, 12> r{};
+        const double ndc[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
+        for (int k = 0; k < 4; ++k) {
+            if (cam.orthographic) {
+                // x_ndc = P00 x + P30, y_ndc = P11 y + P31; z just in front of the near plane.
+                const double x = (ndc[k][0] - P[3][0]) / P[0][0], y = (ndc[k][1] - P[3][1]) / P[1][1];
+                const double zn = (-1.0 - P[3][2]) / P[2][2];
+                r[static_cast<std::size_t>(3 * k)] = static_cast<float>(x);
+                r[static_cast<std::size_t>(3 * k + 1)] = static_cast<float>(y);
+                r[static_cast<std::size_t>(3 * k + 2)] = static_cast<float>(zn * 0.999);
+            } else {
+                // Perspective: z_ndc = -1 at z = -n with n = P32 / (P22 - 1); x_ndc = (P00 x + P20 z) / -z.
+                const double n = P[3][2] / (P[2][2] - 1.0) * 1.001;
+                const double z = -n;
+                const double x = (ndc[k][0] * n - P[2][0] * z) / P[0][0], y = (ndc[k][1] * n - P[2][1] * z) / P[1][1];
+                r[static_cast<std::size_t>(3 * k)] = static_cast<float>(x);
+                r[static_cast<std::size_t>(3 * k + 1)] = static_cast<float>(y);
+                r[static_cast<std::size_t>(3 * k + 2)] = static_cast<float>(z);
+            }
+        }
+        return r;
+    }
+
+    void ensure_fbo(int w, int h) {
+        if (fbo_ != 0 && w == width_ && h == height_) return;
+        release_fbo();
+        const Api& gl = *api_;
+        width_ = w;
+        height_ = h;
+        gl.GenTextures(2, tex_);
+        gl.BindTexture(GL_TEXTURE_2D, tex_[0]);
+        gl.TexStorage2D(GL_TEXTURE_2D, 1, GL_RGBA8, w, h);
+        gl.BindTexture(GL_TEXTURE_2D, tex_[1]);
+        gl.TexStorage2D(GL_TEXTURE_2D, 1, GL_DEPTH_COMPONENT32F, w, h);
+        gl.BindTexture(GL_TEXTURE_2D, 0);
+        gl.GenFramebuffers(1, &fbo_);
+        gl.BindFramebuffer(GL_FRAMEBUFFER, fbo_);
+        gl.FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, tex_[0], 0);
+        gl.FramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, tex_[1], 0);
+        const GLenum status = gl.CheckFramebufferStatus(GL_FRAMEBUFFER);
+        gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
+        if (status != GL_FRAMEBUFFER_COMPLETE) throw std::runtime_error("quadcast::gl::QuadricRenderer: incomplete framebuffer");
+    }
+
+    void release_fbo() {
+        if (fbo_ == 0) return;
+        api_->DeleteFramebuffers(1, &fbo_);
+        api_->DeleteTextures(2, tex_);
+        fbo_ = 0;
+    }
+
+    const Api* api_;
+    GLuint vao_ = 0, ssbo_ = 0, fbo_ = 0, tex_[2] = {0, 0};
+    int width_ = 0, height_ = 0;
+    std::size_t count_ = 0;
+    std::pair<std::uint32_t, std::uint32_t> ranges_[render::variant_count] = {};
+    std::map<std::string, std::unique_ptr<Program>> programs_;
+};
+
+}  // namespace quadcast::gl

@@ -1,0 +1,160 @@
+// quadcast/raycast.hpp -- the per-primitive and per-fragment stages of quadric ray casting
+#pragma once
+
+#include "quadcast/bounds.hpp"
+#include "quadcast/cull.hpp"
+#include "quadcast/linalg.hpp"
+#include "quadcast/quadric.hpp"
+#include "quadcast/ray.hpp"
+#include "quadcast/scalar.hpp"
+
+namespace quadcast {
+
+/// A quadric primitive as a renderer stores it: the quadric in LOCAL coordinates
+/// (x_local = x_world - center, which keeps its coefficients small and the re-origined
+/// discriminant accurate), clipped to the bounding sphere (center, radius) and, for cylinders
+/// and cones, to the slab |dot(axis, x_local)| <= half_length closed by flat caps.
+template <class T>
+struct QuadricPrimitive {
+    Quadric<T> q;
+    Vec3<T> center;
+    T radius;
+    Vec3<T> axis;     ///< unit slab axis (used by the `slab` variants only)
+    T half_length;
+};
+
+/// What a ray needs at a fragment, in local coordinates: origin o, direction v and the terms
+/// g = A o + b and a = A v. All four are affine in the ray's origin and direction, so the
+/// per-primitive stage computes them at the corners of the bounding geometry and the
+/// rasteriser's interpolation gives them at every fragment (incremental ray casting, Stoll et
+/// al. 2006, sec. 5).
+template <class T>
+struct LocalRay {
+    Vec3<T> o, v, g, a;
+};
+
+/// The local ray for a world-space ray (origin, dir).
+/// Numerics: o = origin - center; g = A o + b, a = A v (left folds).
+template <class T>
+LocalRay<T> local_ray(const QuadricPrimitive<T>& p, const Vec3<T>& origin, const Vec3<T>& dir) {
+    const Mat3<T> A = upper3(p.q.q);
+    const Vec3<T> o = origin - p.center;
+    return {o, dir, A * o + xyz(p.q.q[3]), A * dir};
+}
+
+/// Options of a fragment-stage variant (plain C++ values: each combination is one kernel).
+struct CastOptions {
+    bool cull = true;   ///< front-facing surface only (per-fragment back-face culling, Stoll eq. 14)
+    bool slab = false;  ///< clip to the slab and close it with caps (cylinders, cones)
+    bool bound = true;  ///< clip to the bounding sphere (general quadrics; spheres/ellipsoids need not)
+};
+
+/// A fragment's hit: ray parameter, local position and (unnormalised) outward normal.
+template <class T>
+struct CastHit {
+    mask_t<T> hit;
+    T lambda;
+    Vec3<T> x;
+    Vec3<T> normal;
+};
+
+namespace raycast_detail {
+
+template <class T>
+struct Candidate {
+    mask_t<T> ok;
+    T lambda;
+    Vec3<T> normal;
+};
+
+/// The nearer of two candidates (a wins ties); a candidate that is not ok never wins.
+template <class T>
+Candidate<T> nearer(const Candidate<T>& a, const Candidate<T>& b) {
+    const mask_t<T> take_b = b.ok && (!a.ok || b.lambda < a.lambda);
+    return {a.ok || b.ok, select(take_b, b.lambda, a.lambda), select(take_b, b.normal, a.normal)};
+}
+
+}  // namespace raycast_detail
+
+/// Casts a fragment's ray at a primitive (Stoll et al. 2006, sec. 4.2-4.4 and 5, with the
+/// re-origined discriminant of `ray_quadratic_incremental` and the stable root formulas).
+/// - cull: only the front-facing root (eq. 14); otherwise the nearer valid root first, the
+///   farther one where the nearer fails the clip (eq. 15, corrected: `roots_near_first`).
+/// - bound: the hit must lie in the bounding sphere, |x|^2 <= radius^2.
+/// - slab: the hit must lie in the slab; the caps dot(axis, x) = +-half_length are hit where the
+///   quadric's inside (f <= 0) is, with normal +-axis; with cull only the caps facing the ray.
+/// The nearest candidate wins. Normal of a quadric hit: A x + b = g + lambda a (eq. 11).
+/// Numerics: see the functions named; the cap parameter is (s h - dot(axis, o)) / dot(axis, v).
+template <CastOptions Opt, class T>
+CastHit<T> cast(const QuadricPrimitive<T>& p, const LocalRay<T>& r) {
+    using namespace raycast_detail;
+    const RayQuadratic<T> rq = ray_quadratic_incremental(p.q, r.o, r.v, r.g, r.a);
+    const T r2 = p.radius * p.radius;
+    // The clip of a point at ray parameter lambda.
+    auto clip = [&](const T& lambda) {
+        const Vec3<T> x = r.o + lambda * r.v;
+        mask_t<T> in = mask_t<T>(true);
+        if constexpr (Opt.bound) in = dot(x, x) <= r2;
+        if constexpr (Opt.slab) in = in && (abs(dot(p.axis, x)) <= p.half_length);
+        return in;
+    };
+    auto quadric_candidate = [&](const T& lambda, const mask_t<T>& valid) {
+        return Candidate<T>{valid && clip(lambda), lambda, r.g + lambda * r.a};
+    };
+    // Roots of the quadric, clipped.
+    Candidate<T> best{};
+    if constexpr (Opt.cull) {
+        const RayHit<T> h = front_root(rq);
+        best = quadric_candidate(h.lambda, h.hit);
+    } else {
+        const RootPair<T> pr = roots_near_first(rq);
+        best = nearer(quadric_candidate(pr.lambda_near, pr.near_valid), quadric_candidate(pr.lambda_far, pr.far_valid));
+    }
+    // Caps of the slab.
+    if constexpr (Opt.slab) {
+        const T av = dot(p.axis, r.v);
+        const T ao = dot(p.axis, r.o);
+        const mask_t<T> ok_den = av != T(0);
+        const T den = select(ok_den, av, T(1));
+        for (int s = 0; s < 2; ++s) {
+            const T sign = s == 0 ? T(1) : T(-1);
+            const T lambda = (sign * p.half_length - ao) / den;
+            const Vec3<T> x = r.o + lambda * r.v;
+            mask_t<T> ok = (ok_den && lambda > T(0)) && (evaluate(p.q, x) <= T(0));
+            if constexpr (Opt.bound) ok = ok && dot(x, x) <= r2;
+            if constexpr (Opt.cull) ok = ok && (sign * av < T(0));
+            best = nearer(best, Candidate<T>{ok, lambda, sign * p.axis});
+        }
+    }
+    return {best.ok, best.lambda, r.o + best.lambda * r.v, best.normal};
+}
+
+/// Window depth of the point at ray parameter lambda, for a ray whose origin lies in the
+/// camera plane (view-space z = 0: the eye of a perspective camera, or a point of the image
+/// plane of an orthographic one). vz = view-space z of the ray direction; pz = (P22, P32, P23,
+/// P33) of the projection matrix (column-major P[col][row]): z_clip = P22 z + P32,
+/// w_clip = P23 z + P33, depth = 0.5 z_clip / w_clip + 0.5 (glDepthRange 0..1).
+template <class T>
+T window_depth(const T& lambda, const T& vz, const Vec4<T>& pz) {
+    const T z = lambda * vz;
+    return T(0.5) * ((pz[0] * z + pz[1]) / (pz[2] * z + pz[3])) + T(0.5);
+}
+
+/// Blinn-Phong shading with one directional light. n, l, e need not be unit vectors
+/// (normalised here); l points towards the light, e towards the eye. The specular lobe
+/// cos^s is Schlick's rational approximation t / (s - s t + t) (Schlick 1994), so no `pow`.
+/// Returns colour * (ambient + diffuse max(n.l, 0)) + specular * lobe * light.
+template <class T>
+Vec3<T> shade_blinn_phong(const Vec3<T>& n_in, const Vec3<T>& l_in, const Vec3<T>& e_in, const Vec3<T>& color,
+                          const Vec3<T>& light, const Vec4<T>& material /* ambient, diffuse, specular, shininess */) {
+    const Vec3<T> n = normalize(n_in), l = normalize(l_in), e = normalize(e_in);
+    const T ndl = max(dot(n, l), T(0));
+    const Vec3<T> h = normalize(l + e);
+    const T t = max(dot(n, h), T(0));
+    const T s = material[3];
+    const T lobe = select(ndl > T(0), t / ((s - s * t) + t), T(0));
+    const T k = material[0] + material[1] * ndl;
+    return cmul(color, light) * k + light * (material[2] * lobe);
+}
+
+}  // namespace quadcast

@@ -1,0 +1,442 @@
+// quadcast/render/cpu_renderer.hpp -- multi-threaded CPU reference renderer of quadric primitives (tile-binned ray casting)
+#pragma once
+
+// Host-only. The numbers come from the shared templates the GL stages are traced from
+// (codegen/src/stages.cpp): `sphere_quad` bounds a primitive, `local_ray` builds the ray terms,
+// `cull_sphere` culls per quadric, `cast<cast_options(variant, culling)>` finds the hit,
+// `window_depth` its depth and `shade_blinn_phong` its colour. What is written here is only the
+// plumbing around them: pixel rays, screen tiles, a depth test, 8-bit conversion, threads.
+//
+// Where it differs from the GPU on purpose or by nature:
+// - The GPU interpolates v and a = A v over the bounding quad; here they are computed per pixel
+//   (v through the pixel centre on the near plane, a = A v exactly). The hit is the same point
+//   up to rounding, so boundary pixels and low bits may differ; the maths is the same.
+// - A primitive is bounded by a conservative pixel rectangle around its `sphere_quad` (padded by
+//   one pixel) instead of the rasterised quad; pixels outside the quad but inside the rectangle
+//   are cast too. Like the GPU this assumes the clipped surface lies in the bounding sphere
+//   (true for every primitive the scene builder makes).
+// - Depth is kept in float (a GL depth buffer may be 24-bit); the depth test is GL_LESS against
+//   a cleared depth of 1, first primitive (lowest index) wins ties.
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstdint>
+#include <stdexcept>
+#include <thread>
+#include <vector>
+
+#include "quadcast/bounds.hpp"
+#include "quadcast/cull.hpp"
+#include "quadcast/linalg.hpp"
+#include "quadcast/raycast.hpp"
+#include "quadcast/render/types.hpp"
+
+namespace quadcast::render {
+
+/// Everything a frame derives from its camera once: the uniforms the GL stages get (view
+/// rotation inverse, third view row, projection's depth terms) and, in double, the matrices
+/// the CPU needs to unproject pixel centres and bound primitives.
+struct FrameSetup {
+    int width = 0, height = 0;
+    bool orthographic = false;
+    Vec3<float> eye;
+    Mat3<float> view_rot_inv;   ///< R^T, R = upper-left 3x3 of the view matrix (world -> view rotation)
+    Vec3<float> vz_row;         ///< third row of R (qc_vz_row)
+    Vec4<float> pz;             ///< (P22, P32, P23, P33), P[col][row] naming as `window_depth` (qc_pz)
+    Mat4<double> view;          ///< the view matrix in double
+    Mat4<double> projection;    ///< the projection matrix in double
+    Mat4<double> projection_inv;
+};
+
+/// A pixel's world-space ray as the GPU's vertex stage builds it at a quad corner.
+struct PixelRay {
+    Vec3<float> origin;
+    Vec3<float> dir;
+};
+
+/// One primitive cast at one pixel ray: the fragment stage's outputs (hit already includes
+/// 0 <= depth <= 1) and the ray direction shading uses.
+struct Fragment {
+    bool hit = false;
+    float depth = 1.0f;
+    Vec3<float> normal;
+};
+
+namespace cpu_detail {
+
+/// Inverse of a 4x4 matrix by Gauss-Jordan elimination with partial pivoting in long double.
+/// Throws std::invalid_argument when it is singular or not finite.
+inline Mat4<double> inverse4(const Mat4<double>& m) {
+    long double a[4][8];
+    for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 4; ++j) {
+            a[i][j] = m[j][i];
+            a[i][j + 4] = i == j ? 1.0L : 0.0L;
+        }
+    long double scale = 0;
+    for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 4; ++j) scale = std::max(scale, std::fabs(a[i][j]));
+    if (!std::isfinite(static_cast<double>(scale)) || scale == 0)
+        throw std::invalid_argument("quadcast::render: projection matrix is zero or not finite");
+    for (int c = 0; c < 4; ++c) {
+        int p = c;
+        for (int i = c + 1; i < 4; ++i)
+            if (std::fabs(a[i][c]) > std::fabs(a[p][c])) p = i;
+        if (std::fabs(a[p][c]) <= 1e-12L * scale) throw std::invalid_argument("quadcast::render: projection matrix is singular");
+        if (p != c)
+            for (int j = 0; j < 8; ++j) std::swap(a[p][j], a[c][j]);
+        const long double d = a[c][c];
+        for (int j = 0; j < 8; ++j) a[c][j] /= d;
+        for (int i = 0; i < 4; ++i) {
+            if (i == c) continue;
+            const long double f = a[i][c];
+            for (int j = 0; j < 8; ++j) a[i][j] -= f * a[c][j];
+        }
+    }
+    Mat4<double> r{};
+    for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 4; ++j) r[j][i] = static_cast<double>(a[i][j + 4]);
+    return r;
+}
+
+/// A closed pixel rectangle [x0, x1] x [y0, y1] in window coordinates (y up); empty if x0 > x1.
+struct PixelRect {
+    int x0 = 0, y0 = 0, x1 = -1, y1 = -1;
+};
+
+/// The pixel index range whose centres (i + 0.5) lie in the window interval [lo, hi], padded by
+/// one pixel on each side and clamped to [0, n - 1].
+inline void pixel_span(double lo, double hi, int n, int& i0, int& i1) {
+    lo = std::clamp(lo, -4.0, double(n) + 4.0);
+    hi = std::clamp(hi, -4.0, double(n) + 4.0);
+    i0 = std::max(0, static_cast<int>(std::floor(lo - 0.5)) - 1);
+    i1 = std::min(n - 1, static_cast<int>(std::ceil(hi - 0.5)) + 1);
+}
+
+/// 8-bit UNORM conversion as a GL framebuffer does it: round to nearest of clamp(c, 0, 1) * 255
+/// (NaN gives 0).
+inline std::uint8_t to_unorm8(float c) {
+    if (!(c > 0.0f)) return 0;
+    if (c >= 1.0f) return 255;
+    return static_cast<std::uint8_t>(c * 255.0f + 0.5f);
+}
+
+/// `cast` of one variant at one pixel ray, with the fragment stage's depth and range test
+/// (FragmentCastKernel in codegen/kernels/render_kernels.hpp).
+template <CastOptions Opt>
+Fragment cast_variant(const QuadricPrimitive<float>& p, const PixelRay& ray, const FrameSetup& f) {
+    const LocalRay<float> r = local_ray(p, ray.origin, ray.dir);
+    const CastHit<float> h = cast<Opt>(p, r);
+    const float depth = window_depth(h.lambda, dot(f.vz_row, r.v), f.pz);
+    return {(h.hit && depth >= 0.0f) && depth <= 1.0f, depth, h.normal};
+}
+
+}  // namespace cpu_detail
+
+/// The frame constants of a camera for a width x height image.
+/// Throws std::invalid_argument for an empty image, a non-finite camera or a singular projection.
+inline FrameSetup frame_setup(const Camera& camera, int width, int height) {
+    if (width <= 0 || height <= 0) throw std::invalid_argument("quadcast::render: image size must be positive");
+    for (int j = 0; j < 4; ++j)
+        for (int i = 0; i < 4; ++i)
+            if (!std::isfinite(camera.view[j][i]) || !std::isfinite(camera.projection[j][i]))
+                throw std::invalid_argument("quadcast::render: camera matrix is not finite");
+    FrameSetup f;
+    f.width = width;
+    f.height = height;
+    f.orthographic = camera.orthographic;
+    f.eye = camera.eye;
+    f.view_rot_inv = transpose(upper3(camera.view));
+    f.vz_row = row(upper3(camera.view), 2);
+    f.pz = vec4(camera.projection[2][2], camera.projection[3][2], camera.projection[2][3], camera.projection[3][3]);
+    f.view = cast<double>(camera.view);
+    f.projection = cast<double>(camera.projection);
+    f.projection_inv = cpu_detail::inverse4(f.projection);
+    return f;
+}
+
+/// The ray of the pixel whose centre is (x + 0.5, y + 0.5) in WINDOW coordinates (y = 0 is the
+/// bottom row), as the GPU's vertex stage builds it (PrimitiveVertexKernel): the view-space
+/// point p on the near plane through the pixel centre (NDC (x, y, -1) unprojected by P^-1, in
+/// double, rounded to float), then perspective: origin = eye, dir = R^T p;
+/// orthographic: origin = eye + (R^T_0 p_x + R^T_1 p_y), dir = -R^T_2 (float, linalg order).
+inline PixelRay pixel_ray(const FrameSetup& f, int x, int y) {
+    // Unproject the pixel centre onto the near plane
+    const double nx = (2.0 * (x + 0.5)) / f.width - 1.0;
+    const double ny = (2.0 * (y + 0.5)) / f.height - 1.0;
+    const Vec4<double> h = f.projection_inv * vec4(nx, ny, -1.0, 1.0);
+    const Vec3<float> p = vec3(float(h[0] / h[3]), float(h[1] / h[3]), float(h[2] / h[3]));
+    // Turn it into a world-space ray
+    if (f.orthographic)
+        return {f.eye + (f.view_rot_inv[0] * p[0] + f.view_rot_inv[1] * p[1]), -f.view_rot_inv[2]};
+    return {f.eye, f.view_rot_inv * p};
+}
+
+/// The fragment stage for one primitive at one pixel ray: `cast` of the primitive's variant
+/// (front root only when `culling`), `window_depth`, hit = hit && 0 <= depth <= 1.
+/// (Per-quadric culling is not applied here; see `culled`.)
+inline Fragment cast_fragment(const Primitive& p, const PixelRay& ray, const FrameSetup& f, bool culling) {
+    using namespace cpu_detail;
+    switch (p.variant) {
+        case Variant::closed:
+            return culling ? cast_variant<cast_options(Variant::closed, true)>(p.shape, ray, f)
+                           : cast_variant<cast_options(Variant::closed, false)>(p.shape, ray, f);
+        case Variant::slab:
+            return culling ? cast_variant<cast_options(Variant::slab, true)>(p.shape, ray, f)
+                           : cast_variant<cast_options(Variant::slab, false)>(p.shape, ray, f);
+        case Variant::bounded:
+            return culling ? cast_variant<cast_options(Variant::bounded, true)>(p.shape, ray, f)
+                           : cast_variant<cast_options(Variant::bounded, false)>(p.shape, ray, f);
+    }
+    return {};
+}
+
+/// Per-quadric back-face culling as the GPU's vertex stage does it: perspective cameras only,
+/// `cull_sphere(q, o, 0, radius)` with the local eye o = eye - center (`local_ray`'s o).
+inline bool culled(const Primitive& p, const FrameSetup& f) {
+    if (f.orthographic) return false;
+    const LocalRay<float> r = local_ray(p.shape, f.eye, vec3(0.0f, 0.0f, -1.0f));
+    return cull_sphere(p.shape.q, r.o, vec3(0.0f, 0.0f, 0.0f), p.shape.radius);
+}
+
+/// The RGBA8 of a fragment: `shade_blinn_phong(n, -light.direction, -dir, color, light.color,
+/// material)` converted as a GL UNORM8 framebuffer does, alpha 255.
+inline void shade_pixel(const Primitive& p, const Vec3<float>& normal, const Vec3<float>& dir, const Light& light,
+                        const RenderOptions& options, std::uint8_t* rgba) {
+    const Vec3<float> c = shade_blinn_phong(normal, -light.direction, -dir, p.color, light.color, options.material);
+    for (int i = 0; i < 3; ++i) rgba[i] = cpu_detail::to_unorm8(c[i]);
+    rgba[3] = 255;
+}
+
+/// Window-pixel rectangle that contains every pixel whose ray can hit the primitive's bounding
+/// sphere, or an empty one when no hit can survive (off screen, behind the eye, outside the
+/// depth range). Host-side, in double: `sphere_quad` of the view-space centre (the GPU's
+/// bounding quad; the square c +- r for orthographic cameras), its corners projected by P,
+/// padded by one pixel; the full screen when the eye is inside the sphere or a corner lies on
+/// or behind the eye plane.
+inline cpu_detail::PixelRect screen_rect(const QuadricPrimitive<float>& p, const FrameSetup& f) {
+    using namespace cpu_detail;
+    PixelRect empty;
+    const double r = p.radius;
+    if (!(r > 0) || !std::isfinite(r) || !std::isfinite(p.center[0]) || !std::isfinite(p.center[1]) ||
+        !std::isfinite(p.center[2]))
+        return empty;
+    const Vec3<double> c = xyz(f.view * vec4(double(p.center[0]), double(p.center[1]), double(p.center[2]), 1.0));
+    // Behind the eye plane (rays go to view z < 0 from z = 0): nothing to hit
+    if (!f.orthographic && c[2] - r > 0) return empty;
+    // Entirely outside the depth range [0, 1] (depth is monotonic in z between its poles)
+    {
+        const Vec4<double> pz = vec4(f.projection[2][2], f.projection[3][2], f.projection[2][3], f.projection[3][3]);
+        const double z0 = c[2] - r, z1 = c[2] + r;
+        const double w0 = pz[2] * z0 + pz[3], w1 = pz[2] * z1 + pz[3];
+        if ((w0 > 0 && w1 > 0) || (w0 < 0 && w1 < 0)) {
+            const double d0 = window_depth(1.0, z0, pz), d1 = window_depth(1.0, z1, pz);
+            const double margin = 1e-4;
+            if ((d0 < -margin && d1 < -margin) || (d0 > 1 + margin && d1 > 1 + margin)) return empty;
+        }
+    }
+    // Bound the sphere by its quad and project the corners
+    Vec3<double> corner[4];
+    bool full = false;
+    if (f.orthographic) {
+        const double s1[4] = {-1, 1, 1, -1}, s2[4] = {-1, -1, 1, 1};
+        for (int i = 0; i < 4; ++i) corner[i] = vec3(c[0] + s1[i] * r, c[1] + s2[i] * r, c[2]);
+    } else {
+        const SphereQuad<double> sq = sphere_quad(c, r);
+        full = !sq.valid;
+        for (int i = 0; i < 4; ++i) corner[i] = sq.corner[i];
+    }
+    double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
+    for (int i = 0; i < 4 && !full; ++i) {
+        const Vec4<double> h = f.projection * vec4(corner[i], 1.0);
+        if (!(h[3] > 0) || !std::isfinite(h[0]) || !std::isfinite(h[1])) {
+            full = true;
+            break;
+        }
+        for (int k = 0; k < 2; ++k) {
+            const double ndc = h[k] / h[3];
+            lo[k] = std::min(lo[k], ndc);
+            hi[k] = std::max(hi[k], ndc);
+        }
+    }
+    // Turn NDC into a pixel rectangle
+    PixelRect rect;
+    if (full) return PixelRect{0, 0, f.width - 1, f.height - 1};
+    pixel_span((lo[0] + 1) * (0.5 * f.width), (hi[0] + 1) * (0.5 * f.width), f.width, rect.x0, rect.x1);
+    pixel_span((lo[1] + 1) * (0.5 * f.height), (hi[1] + 1) * (0.5 * f.height), f.height, rect.y0, rect.y1);
+    if (rect.x0 > rect.x1 || rect.y0 > rect.y1) return empty;
+    return rect;
+}
+
+namespace cpu_detail {
+
+inline constexpr int tile_size = 16;
+
+/// Per-thread state of the tile loop.
+struct TileScratch {
+    PixelRay ray[tile_size * tile_size];
+    float depth[tile_size * tile_size];
+    std::int32_t prim[tile_size * tile_size];
+    Vec3<float> normal[tile_size * tile_size];
+    std::uint64_t fragments = 0, hits = 0;
+};
+
+/// Casts primitive `index` at the pixels of `r` (clipped to the tile at (tx0, ty0)) and keeps
+/// the nearest hit per pixel (GL_LESS).
+template <CastOptions Opt>
+void cast_rect(const Primitive& p, std::int32_t index, const PixelRect& r, int tx0, int ty0, const FrameSetup& f,
+               TileScratch& s) {
+    for (int y = r.y0; y <= r.y1; ++y) {
+        for (int x = r.x0; x <= r.x1; ++x) {
+            const int k = (y - ty0) * tile_size + (x - tx0);
+            const Fragment frag = cast_variant<Opt>(p.shape, s.ray[k], f);
+            ++s.fragments;
+            if (!frag.hit) continue;
+            ++s.hits;
+            if (frag.depth < s.depth[k]) {
+                s.depth[k] = frag.depth;
+                s.prim[k] = index;
+                s.normal[k] = frag.normal;
+            }
+        }
+    }
+}
+
+/// Runs fn(i) for i in [0, n) on `threads` threads taking indices from a shared counter.
+template <class Fn>
+void parallel_for(int n, int threads, Fn&& fn) {
+    threads = std::max(1, std::min(threads, n));
+    std::atomic<int> next{0};
+    auto work = [&](int t) {
+        for (int i = next.fetch_add(1); i < n; i = next.fetch_add(1)) fn(i, t);
+    };
+    if (threads == 1) {
+        work(0);
+        return;
+    }
+    std::vector<std::thread> pool;
+    pool.reserve(threads - 1);
+    for (int t = 1; t < threads; ++t) pool.emplace_back(work, t);
+    work(0);
+    for (std::thread& th : pool) th.join();
+}
+
+}  // namespace cpu_detail
+
+/// Renders the primitives with the CPU, pixel for pixel what the GL stages compute
+/// (codegen/src/stages.cpp) up to the rounding of the ray set-up (see the top of this file):
+/// per primitive (perspective, options.culling) `culled` skips it; per pixel centre the ray of
+/// `pixel_ray`, per primitive whose screen rectangle covers the pixel `cast_fragment`, the
+/// nearest hit with 0 <= depth <= 1 and depth < 1 wins (lowest index on ties) and is shaded by
+/// `shade_pixel`; elsewhere the background colour (alpha 255) and depth 1.
+/// Primitives are binned into 16x16 tiles by `screen_rect`; `threads` threads (0: the
+/// hardware concurrency) take tiles. Rows of the result are top first (row 0 = window y =
+/// height - 1). Throws std::invalid_argument for a bad image size or camera.
+/// FrameStats: primitives = input count, culled = per-quadric culled, fragments = cast() calls,
+/// hits = casts with a hit in the depth range (before the depth test).
+inline Image render_cpu(const std::vector<Primitive>& prims, const Camera& camera, const Light& light,
+                        const RenderOptions& options, FrameStats* stats = nullptr, int threads = 0) {
+    using namespace cpu_detail;
+    const FrameSetup f = frame_setup(camera, options.width, options.height);
+    if (threads <= 0) threads = std::max(1u, std::thread::hardware_concurrency());
+    const int n = static_cast<int>(prims.size());
+    const int tiles_x = (f.width + tile_size - 1) / tile_size, tiles_y = (f.height + tile_size - 1) / tile_size;
+    const int n_tiles = tiles_x * tiles_y;
+
+    // Bound and cull every primitive
+    std::vector<PixelRect> rects(prims.size());
+    std::vector<std::uint8_t> is_culled(prims.size(), 0);
+    constexpr int chunk = 1024;
+    parallel_for((n + chunk - 1) / chunk, threads, [&](int c, int) {
+        for (int i = c * chunk; i < std::min(n, (c + 1) * chunk); ++i) {
+            if (options.culling && culled(prims[i], f)) {
+                is_culled[i] = 1;
+                continue;
+            }
+            rects[i] = screen_rect(prims[i].shape, f);
+        }
+    });
+
+    // Bin them into tiles (counting sort: each tile's list is in primitive order)
+    std::vector<std::uint32_t> offsets(n_tiles + 1, 0);
+    auto for_tiles = [&](const PixelRect& r, auto&& fn) {
+        if (r.x0 > r.x1) return;
+        for (int ty = r.y0 / tile_size; ty <= r.y1 / tile_size; ++ty)
+            for (int tx = r.x0 / tile_size; tx <= r.x1 / tile_size; ++tx) fn(ty * tiles_x + tx);
+    };
+    for (int i = 0; i < n; ++i) for_tiles(rects[i], [&](int t) { ++offsets[t + 1]; });
+    for (int t = 0; t < n_tiles; ++t) offsets[t + 1] += offsets[t];
+    std::vector<std::uint32_t> items(offsets[n_tiles]);
+    {
+        std::vector<std::uint32_t> fill(offsets.begin(), offsets.end() - 1);
+        for (int i = 0; i < n; ++i) for_tiles(rects[i], [&](int t) { items[fill[t]++] = static_cast<std::uint32_t>(i); });
+    }
+
+    // Render the tiles
+    Image img;
+    img.width = f.width;
+    img.height = f.height;
+    img.rgba.assign(std::size_t(f.width) * f.height * 4, 0);
+    img.depth.assign(std::size_t(f.width) * f.height, 1.0f);
+    std::uint8_t bg[4] = {to_unorm8(options.background[0]), to_unorm8(options.background[1]), to_unorm8(options.background[2]), 255};
+    const int n_threads = std::max(1, std::min(threads, n_tiles));
+    std::vector<TileScratch> scratch(n_threads);
+    parallel_for(n_tiles, n_threads, [&](int t, int thread) {
+        TileScratch& s = scratch[thread];
+        const int tx0 = (t % tiles_x) * tile_size, ty0 = (t / tiles_x) * tile_size;
+        const int tx1 = std::min(f.width, tx0 + tile_size) - 1, ty1 = std::min(f.height, ty0 + tile_size) - 1;
+        // Set up the tile's rays and clear it
+        for (int y = ty0; y <= ty1; ++y)
+            for (int x = tx0; x <= tx1; ++x) {
+                const int k = (y - ty0) * tile_size + (x - tx0);
+                s.ray[k] = pixel_ray(f, x, y);
+                s.depth[k] = 1.0f;
+                s.prim[k] = -1;
+            }
+        // Cast every primitive binned here at the pixels of its rectangle
+        for (std::uint32_t j = offsets[t]; j < offsets[t + 1]; ++j) {
+            const std::int32_t i = static_cast<std::int32_t>(items[j]);
+            const PixelRect& pr = rects[i];
+            const PixelRect r{std::max(pr.x0, tx0), std::max(pr.y0, ty0), std::min(pr.x1, tx1), std::min(pr.y1, ty1)};
+            const Primitive& p = prims[i];
+            switch (p.variant) {
+                case Variant::closed:
+                    if (options.culling) cast_rect<cast_options(Variant::closed, true)>(p, i, r, tx0, ty0, f, s);
+                    else cast_rect<cast_options(Variant::closed, false)>(p, i, r, tx0, ty0, f, s);
+                    break;
+                case Variant::slab:
+                    if (options.culling) cast_rect<cast_options(Variant::slab, true)>(p, i, r, tx0, ty0, f, s);
+                    else cast_rect<cast_options(Variant::slab, false)>(p, i, r, tx0, ty0, f, s);
+                    break;
+                case Variant::bounded:
+                    if (options.culling) cast_rect<cast_options(Variant::bounded, true)>(p, i, r, tx0, ty0, f, s);
+                    else cast_rect<cast_options(Variant::bounded, false)>(p, i, r, tx0, ty0, f, s);
+                    break;
+            }
+        }
+        // Shade the winners and write the tile (row 0 of the image is the top)
+        for (int y = ty0; y <= ty1; ++y)
+            for (int x = tx0; x <= tx1; ++x) {
+                const int k = (y - ty0) * tile_size + (x - tx0);
+                const std::size_t o = std::size_t(f.height - 1 - y) * f.width + x;
+                std::uint8_t* px = &img.rgba[o * 4];
+                img.depth[o] = s.depth[k];
+                if (s.prim[k] < 0) std::copy(bg, bg + 4, px);
+                else shade_pixel(prims[s.prim[k]], s.normal[k], s.ray[k].dir, light, options, px);
+            }
+    });
+
+    if (stats) {
+        *stats = FrameStats{};
+        stats->primitives = prims.size();
+        for (std::uint8_t c : is_culled) stats->culled += c;
+        for (const TileScratch& s : scratch) {
+            stats->fragments += s.fragments;
+            stats->hits += s.hits;
+        }
+    }
+    return img;
+}
+
+}  // namespace quadcast::render

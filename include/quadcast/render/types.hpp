@@ -1,0 +1,68 @@
+// quadcast/render/types.hpp -- what both renderers (GL and CPU reference) take and give
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "quadcast/linalg.hpp"
+#include "quadcast/raycast.hpp"
+
+namespace quadcast::render {
+
+/// The fragment-stage variant a primitive needs (a scene compiles only the variants it uses).
+enum class Variant : std::uint8_t {
+    closed,        ///< closed quadric, no clipping (spheres, ellipsoids): CastOptions{cull, slab=false, bound=false}
+    slab,          ///< slab with caps (cylinders, cones):                   CastOptions{cull, slab=true,  bound=false}
+    bounded,       ///< clipped to its bounding sphere (general quadrics):   CastOptions{cull, slab=false, bound=true}
+};
+inline constexpr int variant_count = 3;
+
+/// The CastOptions of a variant.
+constexpr CastOptions cast_options(Variant v, bool cull) {
+    return CastOptions{cull, v == Variant::slab, v == Variant::bounded};
+}
+
+/// One primitive to draw, in float as the GPU stores it.
+struct Primitive {
+    QuadricPrimitive<float> shape;
+    Variant variant;
+    Vec3<float> color;
+};
+
+/// A camera as both renderers use it. view: world -> view (rigid); projection: OpenGL clip
+/// matrix; eye: world position (perspective) -- for an orthographic camera the rays start in
+/// the plane z_view = 0 through `eye`.
+struct Camera {
+    Mat4<float> view;
+    Mat4<float> projection;
+    Vec3<float> eye;
+    bool orthographic = false;
+};
+
+struct Light {
+    Vec3<float> direction;  ///< towards the scene (as in the JSON scene); shading uses -direction
+    Vec3<float> color{{1.0f, 1.0f, 1.0f}};
+};
+
+struct RenderOptions {
+    int width = 1024, height = 768;
+    bool culling = true;                                  ///< per-fragment front-root selection + per-quadric culling
+    Vec3<float> background{{1.0f, 1.0f, 1.0f}};
+    Vec4<float> material{{0.15f, 0.85f, 0.35f, 48.0f}};   ///< ambient, diffuse, specular, shininess
+};
+
+/// A rendered frame: RGBA8 (top row first) and window depth (1 = background), same layout.
+struct Image {
+    int width = 0, height = 0;
+    std::vector<std::uint8_t> rgba;
+    std::vector<float> depth;
+};
+
+/// Statistics of a frame.
+struct FrameStats {
+    std::uint64_t primitives = 0, culled = 0, fragments = 0;
+    std::uint64_t hits = 0;  ///< fragments whose cast hit within the depth range (before the depth test)
+};
+
+}  // namespace quadcast::render
