@@ -11,7 +11,7 @@ namespace quadcast::codegen::kernels {
 
 /// Reads a QuadricPrimitive's fields as kernel inputs (the fragment stage reads them from the
 /// primitive's record).
-template <class IO>
+template <bool Planes = false, class IO>
 QuadricPrimitive<typename IO::T> primitive_inputs(IO& io) {
     using T = typename IO::T;
     QuadricPrimitive<T> p{};
@@ -20,6 +20,8 @@ QuadricPrimitive<typename IO::T> primitive_inputs(IO& io) {
     p.radius = io.scalar("radius");
     p.axis = io.template vec<3>("axis");
     p.half_length = io.scalar("half_length");
+    if constexpr (Planes)
+        for (int i = 0; i < 4; ++i) p.planes[i] = io.template vec<4>("plane" + std::to_string(i));
     return p;
 }
 
@@ -118,6 +120,7 @@ struct PrimitiveVertexKernel {
 
 /// Name of a fragment-stage variant: fragment_<closed|slab|bounded>[_nocull].
 constexpr const char* fragment_kernel_name(CastOptions o) {
+    if (o.planes) return o.cull ? "fragment_planes" : "fragment_planes_nocull";
     if (o.slab) return o.cull ? "fragment_slab" : "fragment_slab_nocull";
     if (o.bound) return o.cull ? "fragment_bounded" : "fragment_bounded_nocull";
     return o.cull ? "fragment_closed" : "fragment_closed_nocull";
@@ -132,7 +135,7 @@ struct FragmentCastKernel {
     static constexpr const char* summary = "incremental ray casting: a fragment's hit, depth and normal (Stoll et al. 2006, sec. 5)";
     template <class IO> static void run(IO& io) {
         using T = typename IO::T;
-        const QuadricPrimitive<T> p = primitive_inputs(io);
+        const QuadricPrimitive<T> p = primitive_inputs<Opt.planes>(io);
         const LocalRay<T> r{io.template vec<3>("o"), io.template vec<3>("v"), io.template vec<3>("g"), io.template vec<3>("a")};
         const Vec3<T> vz_row = io.template vec<3>("vz_row");
         const Vec4<T> pz = io.template vec<4>("pz");
@@ -145,6 +148,8 @@ struct FragmentCastKernel {
     static void generate(std::mt19937& rng, std::span<float> in) {
         std::size_t p = 0;
         put_primitive(rng, in, p);
+        if constexpr (Opt.planes)
+            for (int i = 0; i < 4; ++i) put(in, p, vec4(random_direction(rng), uniform(rng, 0.0f, 2.0f)));
         const Vec3<float> o = random_direction(rng) * uniform(rng, 1.0f, 100.0f);
         const Vec3<float> v = normalize(random_point(rng, 1.0f) - o);
         put(in, p, o);

@@ -17,7 +17,10 @@ const KernelDef* find_kernel(const std::string& name) {
 namespace {
 
 /// A C++ raw string literal holding `text` (the delimiter never occurs in GLSL).
-std::string raw_literal(const std::string& text) { return "R\"qc_glsl(" + text + ")qc_glsl\""; }
+std::string raw_literal(const std::string& text) {
+    // With its length, so that no constexpr evaluation has to count the characters.
+    return "std::string_view(R\"qc_glsl(" + text + ")qc_glsl\", " + std::to_string(text.size()) + ")";
+}
 
 }  // namespace
 

@@ -41,6 +41,8 @@ const std::vector<KernelDef>& registry() {
         make_kernel<FragmentCastKernel<CastOptions{false, true, false}>>(),
         make_kernel<FragmentCastKernel<CastOptions{true, false, true}>>(),
         make_kernel<FragmentCastKernel<CastOptions{false, false, true}>>(),
+        make_kernel<FragmentCastKernel<CastOptions{true, false, false, true}>>(),
+        make_kernel<FragmentCastKernel<CastOptions{false, false, false, true}>>(),
         make_kernel<ShadeKernel>(),
         make_kernel<SplineTet0CoefficientsKernel<2>>(),
         make_kernel<SplineTet0CoefficientsKernel<3>>(),

@@ -88,6 +88,7 @@ Stage vertex_shader(bool ortho) {
 
 Stage fragment_shader(const std::string& variant, bool ortho) {
     Stage s;
+    const bool planes = variant.rfind("planes", 0) == 0;
     std::ostringstream fns;
     add_kernel(s, fns, "fragment_" + variant);
     add_kernel(s, fns, "shade_blinn_phong");
@@ -95,6 +96,11 @@ Stage fragment_shader(const std::string& variant, bool ortho) {
     const char* vq = ortho ? "flat " : "";
     std::ostringstream m;
     m << record_glsl;
+    if (planes)
+        m << "// Clip planes of the `planes` variant, one set per primitive of the draw (index prim - qc_first).\n"
+             "struct qc_Planes { vec4 p[4]; };\n"
+             "layout(std430, binding = 1) readonly buffer qc_PlaneSets { qc_Planes qc_planes[]; };\n"
+             "uniform uint qc_first;\n\n";
     m << "uniform vec3 qc_vz_row;       // third row of the world->view rotation\n"
          "uniform vec4 qc_pz;           // P22, P32, P23, P33 of the projection\n"
          "uniform vec3 qc_light_dir;    // towards the scene\nuniform vec3 qc_light_color;\n"
@@ -106,8 +112,9 @@ Stage fragment_shader(const std::string& variant, bool ortho) {
     m << "void main()\n{\n"
          "    qc_Primitive p = qc_prims[qc_prim];\n"
          "    bool hit;\n    float depth;\n    vec3 n;\n"
-         "    qc_fragment_" << variant << "(qc_record_quadric(p), p.center.xyz, p.q2.z, p.axis.xyz, p.q2.w, qc_o, qc_v, qc_g, qc_a,\n"
-         "        qc_vz_row, qc_pz, hit, depth, n);\n"
+         "    qc_fragment_" << variant << "(qc_record_quadric(p), p.center.xyz, p.q2.z, p.axis.xyz, p.q2.w,\n"
+      << (planes ? "        qc_planes[qc_prim - qc_first].p[0], qc_planes[qc_prim - qc_first].p[1], qc_planes[qc_prim - qc_first].p[2], qc_planes[qc_prim - qc_first].p[3],\n" : "")
+      << "        qc_o, qc_v, qc_g, qc_a, qc_vz_row, qc_pz, hit, depth, n);\n"
          "    if (!hit) discard;\n"
          "    gl_FragDepth = depth;\n"
          "    vec3 rgb;\n"
@@ -128,7 +135,7 @@ std::vector<StageShader> render_stage_shaders() {
         const std::string vname = "qc_quadric_" + proj + ".vert";
         out.push_back({vname, "glsl/render/" + vname,
                        "#version 450 core\n" + banner("glsl/render/" + vname, v.sources, v.ops, "quadric renderer: vertex stage, " + proj + " camera") + "\n" + v.text});
-        for (const char* variant : {"closed", "closed_nocull", "slab", "slab_nocull", "bounded", "bounded_nocull"}) {
+        for (const char* variant : {"closed", "closed_nocull", "slab", "slab_nocull", "bounded", "bounded_nocull", "planes", "planes_nocull"}) {
             const Stage f = fragment_shader(variant, ortho);
             const std::string fname = std::string("qc_quadric_") + variant + "_" + proj + ".frag";
             out.push_back({fname, "glsl/render/" + fname,

@@ -4,7 +4,9 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "quadcast/bilinear.hpp"
 #include "quadcast/quadric.hpp"
+#include "quadcast/ray.hpp"
 
 namespace quadcast::render {
 
@@ -55,6 +57,60 @@ Quadric<double> cone_local(const V3& a, double k2, double H) {
     for (int i = 0; i < 3; ++i) q.q[3][i] = q.q[i][3] = 0.5 * k2 * H * a[i];
     q.q[3][3] = -0.25 * k2 * H * H;
     return q;
+}
+
+/// Centre and radius of a sphere around the points (centroid, farthest point).
+template <std::size_t N>
+void bounding_sphere(const std::array<V3, N>& pts, V3& c, double& r) {
+    c = V3{{0.0, 0.0, 0.0}};
+    for (const V3& p : pts) c = c + p;
+    c = c / static_cast<double>(N);
+    r = 0;
+    for (const V3& p : pts) r = std::max(r, length(p - c));
+    r *= 1.0 + 1e-6;
+}
+
+/// A quadric given relative to `origin`, clipped to the tetrahedron of `corners`: stored relative
+/// to the tetrahedron's bounding sphere with its inward face planes there.
+Primitive planes_primitive(const Quadric<double>& q_rel, const V3& origin, const std::array<V3, 4>& corners, const V3& color) {
+    V3 c;
+    double r;
+    bounding_sphere(corners, c, r);
+    const Quadric<double> local = translate_to_eye(q_rel, c - origin);
+    Primitive p = make(local, c, r, Variant::planes, color);
+    BoundingTet<double> t{};
+    for (int i = 0; i < 4; ++i) t.p[i] = corners[static_cast<std::size_t>(i)] - c;
+    const TetPlanes<double> pl = tet_planes(t);
+    for (int i = 0; i < 4; ++i) p.shape.planes[i] = cast<float>(pl.plane[i] / length(xyz(pl.plane[i])));
+    return p;
+}
+
+/// A planar (convex) quad or a triangle: the plane n.(x - p1) = 0 clipped by the inward edge
+/// planes (each containing an edge and the normal).
+Primitive planar_quad_primitive(const std::array<V3, 4>& q, const V3& color) {
+    V3 c;
+    double r;
+    bounding_sphere(q, c, r);
+    // The normal of the largest corner triangle (robust for triangles with a repeated corner).
+    V3 n{{0.0, 0.0, 0.0}};
+    for (int i = 0; i < 4; ++i) {
+        const V3 m = cross(q[static_cast<std::size_t>((i + 1) % 4)] - q[static_cast<std::size_t>(i)], q[static_cast<std::size_t>((i + 3) % 4)] - q[static_cast<std::size_t>(i)]);
+        if (length(m) > length(n)) n = m;
+    }
+    n = n / length(n);
+    Quadric<double> plane{zero_mat<double, 4, 4>()};
+    for (int i = 0; i < 3; ++i) plane.q[3][i] = plane.q[i][3] = 0.5 * n[i];
+    plane.q[3][3] = -dot(n, q[0] - c);
+    Primitive p = make(plane, c, r, Variant::planes, color);
+    for (int i = 0; i < 4; ++i) {
+        const V3 a = q[static_cast<std::size_t>(i)] - c, b = q[static_cast<std::size_t>((i + 1) % 4)] - c;
+        V3 e = cross(n, b - a);
+        const double le = length(e);
+        if (!(le > 0)) { p.shape.planes[i] = vec4(0.0f, 0.0f, 0.0f, 1.0f); continue; }  // repeated corner: no constraint
+        e = e / le;
+        p.shape.planes[i] = cast<float>(vec4(e, -dot(e, a)));
+    }
+    return p;
 }
 
 }  // namespace
@@ -116,14 +172,27 @@ Frame build_frame(const scene::Scene& s, int width, int height) {
         fr.primitives.push_back(make(cone_local(a, k2, H), 0.5 * (x.apex + x.base), std::sqrt(x.radius * x.radius + 0.25 * H * H), Variant::slab,
                                      x.material.color, a, 0.5 * H));
     }
-    std::size_t tet_bound = 0;
     for (const auto& x : s.quadrics) {
-        if (x.bound != scene::Quadric::Bound::sphere) { ++tet_bound; continue; }
-        const Quadric<double> local = translate_to_eye(Quadric<double>{x.q}, x.sphere.center);
-        fr.primitives.push_back(make(local, x.sphere.center, x.sphere.radius, Variant::bounded, x.material.color));
+        if (x.bound == scene::Quadric::Bound::sphere) {
+            const Quadric<double> local = translate_to_eye(Quadric<double>{x.q}, x.sphere.center);
+            fr.primitives.push_back(make(local, x.sphere.center, x.sphere.radius, Variant::bounded, x.material.color));
+        } else {
+            fr.primitives.push_back(planes_primitive(Quadric<double>{x.q}, V3{{0.0, 0.0, 0.0}}, x.tetrahedron.p, x.material.color));
+        }
     }
-    if (tet_bound) fr.notes.push_back(std::to_string(tet_bound) + " quadric(s) with a tetrahedron bound are not drawn yet (sphere bounds only)");
-    if (!s.quads.empty()) fr.notes.push_back(std::to_string(s.quads.size()) + " bilinear quad(s) are not drawn yet (they need the tetrahedron-bound pipeline)");
+    std::size_t skipped = 0;
+    for (const auto& x : s.quads) {
+        const auto& p = x.p;
+        const QuadConversion<double> conv = quad_to_quadric(p[0], p[1], p[2], p[3]);
+        if (conv.ok()) {
+            fr.primitives.push_back(planes_primitive(conv.local.quadric, conv.local.origin, p, x.material.color));
+        } else if (conv.kind == QuadKind::planar || conv.kind == QuadKind::triangle) {
+            fr.primitives.push_back(planar_quad_primitive(p, x.material.color));
+        } else {
+            ++skipped;
+        }
+    }
+    if (skipped) fr.notes.push_back(std::to_string(skipped) + " degenerate quad(s) (segments, points, non-finite) are not drawn");
 
     const scene::Camera& c = s.camera;
     const double aspect = static_cast<double>(width) / static_cast<double>(height);

@@ -21,6 +21,10 @@ struct QuadricPrimitive {
     T radius;
     Vec3<T> axis;     ///< unit slab axis (used by the `slab` variants only)
     T half_length;
+    /// Inward planes (local coordinates) of a convex clip volume, for the `planes` variants: the
+    /// faces of a bounding tetrahedron (bilinear quads, tetrahedral quadric patches), or the edge
+    /// planes of a planar quad. x is inside when dot(plane[i], (x, 1)) >= 0 for all i.
+    Vec4<T> planes[4];
 };
 
 /// What a ray needs at a fragment, in local coordinates: origin o, direction v and the terms
@@ -47,6 +51,7 @@ struct CastOptions {
     bool cull = true;   ///< front-facing surface only (per-fragment back-face culling, Stoll eq. 14)
     bool slab = false;  ///< clip to the slab and close it with caps (cylinders, cones)
     bool bound = true;  ///< clip to the bounding sphere (general quadrics; spheres/ellipsoids need not)
+    bool planes = false;  ///< clip to the four planes (tetrahedra, planar quads)
 };
 
 /// A fragment's hit: ray parameter, local position and (unnormalised) outward normal.
@@ -81,6 +86,7 @@ Candidate<T> nearer(const Candidate<T>& a, const Candidate<T>& b) {
 /// - cull: only the front-facing root (eq. 14); otherwise the nearer valid root first, the
 ///   farther one where the nearer fails the clip (eq. 15, corrected: `roots_near_first`).
 /// - bound: the hit must lie in the bounding sphere, |x|^2 <= radius^2.
+/// - planes: the hit must lie inside the four planes (`inside_tet`).
 /// - slab: the hit must lie in the slab; the caps dot(axis, x) = +-half_length are hit where the
 ///   quadric's inside (f <= 0) is, with normal +-axis; with cull only the caps facing the ray.
 /// The nearest candidate wins. Normal of a quadric hit: A x + b = g + lambda a (eq. 11).
@@ -96,6 +102,7 @@ CastHit<T> cast(const QuadricPrimitive<T>& p, const LocalRay<T>& r) {
         mask_t<T> in = mask_t<T>(true);
         if constexpr (Opt.bound) in = dot(x, x) <= r2;
         if constexpr (Opt.slab) in = in && (abs(dot(p.axis, x)) <= p.half_length);
+        if constexpr (Opt.planes) in = in && inside_tet(TetPlanes<T>{{p.planes[0], p.planes[1], p.planes[2], p.planes[3]}}, x);
         return in;
     };
     auto quadric_candidate = [&](const T& lambda, const mask_t<T>& valid) {
@@ -140,14 +147,17 @@ T window_depth(const T& lambda, const T& vz, const Vec4<T>& pz) {
     return T(0.5) * ((pz[0] * z + pz[1]) / (pz[2] * z + pz[3])) + T(0.5);
 }
 
-/// Blinn-Phong shading with one directional light. n, l, e need not be unit vectors
-/// (normalised here); l points towards the light, e towards the eye. The specular lobe
+/// Blinn-Phong shading with one directional light, two-sided (a normal facing away from the eye
+/// is flipped: back faces are lit like front faces when culling is off). n, l, e need not be
+/// unit vectors (normalised here); l points towards the light, e towards the eye. The specular lobe
 /// cos^s is Schlick's rational approximation t / (s - s t + t) (Schlick 1994), so no `pow`.
 /// Returns colour * (ambient + diffuse max(n.l, 0)) + specular * lobe * light.
 template <class T>
 Vec3<T> shade_blinn_phong(const Vec3<T>& n_in, const Vec3<T>& l_in, const Vec3<T>& e_in, const Vec3<T>& color,
                           const Vec3<T>& light, const Vec4<T>& material /* ambient, diffuse, specular, shininess */) {
-    const Vec3<T> n = normalize(n_in), l = normalize(l_in), e = normalize(e_in);
+    const Vec3<T> e = normalize(e_in), l = normalize(l_in);
+    const Vec3<T> n0 = normalize(n_in);
+    const Vec3<T> n = select(dot(n0, e) < T(0), -n0, n0);
     const T ndl = max(dot(n, l), T(0));
     const Vec3<T> h = normalize(l + e);
     const T t = max(dot(n, h), T(0));

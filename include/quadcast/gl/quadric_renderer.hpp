@@ -51,10 +51,12 @@ public:
     explicit QuadricRenderer(const Api& api) : api_(&api) {
         api.GenVertexArrays(1, &vao_);
         api.GenBuffers(1, &ssbo_);
+        api.GenBuffers(1, &planes_);
     }
     ~QuadricRenderer() {
         release_fbo();
         api_->DeleteBuffers(1, &ssbo_);
+        api_->DeleteBuffers(1, &planes_);
         api_->DeleteVertexArrays(1, &vao_);
     }
     QuadricRenderer(const QuadricRenderer&) = delete;
@@ -63,13 +65,21 @@ public:
     /// Uploads the primitives (grouped by variant). Call again when they change.
     void set_primitives(const std::vector<render::Primitive>& prims) {
         std::vector<PrimitiveRecord> records;
+        std::vector<float> planes;  // 16 floats per primitive of the planes variant, in record order
         records.reserve(prims.size());
         for (int v = 0; v < render::variant_count; ++v) {
             ranges_[v] = {static_cast<std::uint32_t>(records.size()), 0};
-            for (const auto& p : prims)
-                if (static_cast<int>(p.variant) == v) records.push_back(pack(p));
+            for (const auto& p : prims) {
+                if (static_cast<int>(p.variant) != v) continue;
+                records.push_back(pack(p));
+                if (p.variant == render::Variant::planes)
+                    for (const auto& pl : p.shape.planes) planes.insert(planes.end(), pl.c, pl.c + 4);
+            }
             ranges_[v].second = static_cast<std::uint32_t>(records.size()) - ranges_[v].first;
         }
+        api_->BindBuffer(GL_SHADER_STORAGE_BUFFER, planes_);
+        api_->BufferData(GL_SHADER_STORAGE_BUFFER, static_cast<GLsizeiptr>(std::max<std::size_t>(1, planes.size()) * sizeof(float)),
+                         planes.empty() ? nullptr : planes.data(), GL_STATIC_DRAW);
         api_->BindBuffer(GL_SHADER_STORAGE_BUFFER, ssbo_);
         api_->BufferData(GL_SHADER_STORAGE_BUFFER, static_cast<GLsizeiptr>(std::max<std::size_t>(1, records.size()) * sizeof(PrimitiveRecord)),
                          records.empty() ? nullptr : records.data(), GL_STATIC_DRAW);
@@ -91,6 +101,7 @@ public:
         gl.DepthFunc(GL_LESS);
         gl.BindVertexArray(vao_);
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, ssbo_);
+        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, planes_);
         for (int v = 0; v < render::variant_count; ++v) {
             if (ranges_[v].second == 0) continue;
             const Program& prog = program(static_cast<render::Variant>(v), opt.culling, cam.orthographic);
@@ -102,6 +113,7 @@ public:
         gl.UseProgram(0);
         gl.BindVertexArray(0);
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, 0);
+        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, 0);
         gl.Finish();
         check_errors(gl, "QuadricRenderer::draw");
     }
@@ -134,8 +146,7 @@ public:
 
 private:
     const Program& program(render::Variant v, bool cull, bool ortho) {
-        static const char* names[] = {"closed", "slab", "bounded"};
-        const std::string variant = std::string(names[static_cast<int>(v)]) + (cull ? "" : "_nocull");
+        const std::string variant = std::string(render::variant_name(v)) + (cull ? "" : "_nocull");
         const std::string proj = ortho ? "ortho" : "perspective";
         const std::string key = variant + "_" + proj;
         auto it = programs_.find(key);
@@ -174,7 +185,8 @@ private:
     /// View-space corners of the near-plane rectangle (for primitives whose bounding sphere
     /// contains the eye), slightly inside the near plane so they are not clipped.
     static std::array<float, 12> near_corners(const render::Camera& cam) {
-        const auto& P = cam.projection;
+        Mat4<double> P{};
+        for (int j = 0; j < 4; ++j) for (int i = 0; i < 4; ++i) P[j][i] = static_cast<double>(cam.projection[j][i]);
         std::array<float, 12> r{};
         const double ndc[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
         for (int k = 0; k < 4; ++k) {
@@ -227,7 +239,7 @@ private:
     }
 
     const Api* api_;
-    GLuint vao_ = 0, ssbo_ = 0, fbo_ = 0, tex_[2] = {0, 0};
+    GLuint vao_ = 0, ssbo_ = 0, planes_ = 0, fbo_ = 0, tex_[2] = {0, 0};
     int width_ = 0, height_ = 0;
     std::size_t count_ = 0;
     std::pair<std::uint32_t, std::uint32_t> ranges_[render::variant_count] = {};

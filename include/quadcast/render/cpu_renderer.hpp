@@ -11,8 +11,8 @@
 // - The GPU interpolates v and a = A v over the bounding quad; here they are computed per pixel
 //   (v through the pixel centre on the near plane, a = A v exactly). The hit is the same point
 //   up to rounding, so boundary pixels and low bits may differ; the maths is the same.
-// - A primitive is bounded by a conservative pixel rectangle around its `sphere_quad` (padded by
-//   one pixel) instead of the rasterised quad; pixels outside the quad but inside the rectangle
+// - A primitive is bounded by a conservative pixel rectangle around its `sphere_quad` (widened
+//   by 1/16 pixel) instead of the rasterised quad; pixels outside the quad but inside the rectangle
 //   are cast too. Like the GPU this assumes the clipped surface lies in the bounding sphere
 //   (true for every primitive the scene builder makes).
 // - Depth is kept in float (a GL depth buffer may be 24-bit); the depth test is GL_LESS against
@@ -105,13 +105,15 @@ struct PixelRect {
     int x0 = 0, y0 = 0, x1 = -1, y1 = -1;
 };
 
-/// The pixel index range whose centres (i + 0.5) lie in the window interval [lo, hi], padded by
-/// one pixel on each side and clamped to [0, n - 1].
+/// The pixel index range whose centres (i + 0.5) lie in the window interval [lo, hi] widened
+/// by 1/16 pixel plus 1e-5 of its length (far more than the rounding of a float cast near a
+/// silhouette), clamped to [0, n - 1].
 inline void pixel_span(double lo, double hi, int n, int& i0, int& i1) {
-    lo = std::clamp(lo, -4.0, double(n) + 4.0);
-    hi = std::clamp(hi, -4.0, double(n) + 4.0);
-    i0 = std::max(0, static_cast<int>(std::floor(lo - 0.5)) - 1);
-    i1 = std::min(n - 1, static_cast<int>(std::ceil(hi - 0.5)) + 1);
+    const double pad = 0.0625 + 1e-5 * (hi - lo);
+    lo = std::clamp(lo - pad, -4.0, double(n) + 4.0);
+    hi = std::clamp(hi + pad, -4.0, double(n) + 4.0);
+    i0 = std::max(0, static_cast<int>(std::ceil(lo - 0.5)));
+    i1 = std::min(n - 1, static_cast<int>(std::floor(hi - 0.5)));
 }
 
 /// 8-bit UNORM conversion as a GL framebuffer does it: round to nearest of clamp(c, 0, 1) * 255
@@ -130,6 +132,17 @@ Fragment cast_variant(const QuadricPrimitive<float>& p, const PixelRay& ray, con
     const CastHit<float> h = cast<Opt>(p, r);
     const float depth = window_depth(h.lambda, dot(f.vz_row, r.v), f.pz);
     return {(h.hit && depth >= 0.0f) && depth <= 1.0f, depth, h.normal};
+}
+
+/// Calls fn.template operator()<cast_options(v, cull)>() for the runtime variant v. Every
+/// variant below `variant_count` is instantiated, so a new variant needs no change here.
+template <int I = 0, class Fn>
+auto dispatch_variant(Variant v, bool cull, Fn&& fn) {
+    if constexpr (I + 1 < variant_count) {
+        if (v != static_cast<Variant>(I)) return dispatch_variant<I + 1>(v, cull, fn);
+    }
+    return cull ? fn.template operator()<cast_options(static_cast<Variant>(I), true)>()
+                : fn.template operator()<cast_options(static_cast<Variant>(I), false)>();
 }
 
 }  // namespace cpu_detail
@@ -177,25 +190,18 @@ inline PixelRay pixel_ray(const FrameSetup& f, int x, int y) {
 /// (front root only when `culling`), `window_depth`, hit = hit && 0 <= depth <= 1.
 /// (Per-quadric culling is not applied here; see `culled`.)
 inline Fragment cast_fragment(const Primitive& p, const PixelRay& ray, const FrameSetup& f, bool culling) {
-    using namespace cpu_detail;
-    switch (p.variant) {
-        case Variant::closed:
-            return culling ? cast_variant<cast_options(Variant::closed, true)>(p.shape, ray, f)
-                           : cast_variant<cast_options(Variant::closed, false)>(p.shape, ray, f);
-        case Variant::slab:
-            return culling ? cast_variant<cast_options(Variant::slab, true)>(p.shape, ray, f)
-                           : cast_variant<cast_options(Variant::slab, false)>(p.shape, ray, f);
-        case Variant::bounded:
-            return culling ? cast_variant<cast_options(Variant::bounded, true)>(p.shape, ray, f)
-                           : cast_variant<cast_options(Variant::bounded, false)>(p.shape, ray, f);
-    }
-    return {};
+    return cpu_detail::dispatch_variant(p.variant, culling, [&]<CastOptions Opt>() {
+        return cpu_detail::cast_variant<Opt>(p.shape, ray, f);
+    });
 }
 
 /// Per-quadric back-face culling as the GPU's vertex stage does it: perspective cameras only,
 /// `cull_sphere(q, o, 0, radius)` with the local eye o = eye - center (`local_ray`'s o).
+/// Not for the `slab` variant: `cull_sphere` tests the quadric alone, but a slab's caps can
+/// face the eye when its wall does not (a cylinder seen end-on from inside its infinite
+/// extension would vanish).
 inline bool culled(const Primitive& p, const FrameSetup& f) {
-    if (f.orthographic) return false;
+    if (f.orthographic || p.variant == Variant::slab) return false;
     const LocalRay<float> r = local_ray(p.shape, f.eye, vec3(0.0f, 0.0f, -1.0f));
     return cull_sphere(p.shape.q, r.o, vec3(0.0f, 0.0f, 0.0f), p.shape.radius);
 }
@@ -213,7 +219,7 @@ inline void shade_pixel(const Primitive& p, const Vec3<float>& normal, const Vec
 /// sphere, or an empty one when no hit can survive (off screen, behind the eye, outside the
 /// depth range). Host-side, in double: `sphere_quad` of the view-space centre (the GPU's
 /// bounding quad; the square c +- r for orthographic cameras), its corners projected by P,
-/// padded by one pixel; the full screen when the eye is inside the sphere or a corner lies on
+/// widened by 1/16 pixel (`pixel_span`); the full screen when the eye is inside the sphere or a corner lies on
 /// or behind the eye plane.
 inline cpu_detail::PixelRect screen_rect(const QuadricPrimitive<float>& p, const FrameSetup& f) {
     using namespace cpu_detail;
@@ -400,20 +406,7 @@ inline Image render_cpu(const std::vector<Primitive>& prims, const Camera& camer
             const PixelRect& pr = rects[i];
             const PixelRect r{std::max(pr.x0, tx0), std::max(pr.y0, ty0), std::min(pr.x1, tx1), std::min(pr.y1, ty1)};
             const Primitive& p = prims[i];
-            switch (p.variant) {
-                case Variant::closed:
-                    if (options.culling) cast_rect<cast_options(Variant::closed, true)>(p, i, r, tx0, ty0, f, s);
-                    else cast_rect<cast_options(Variant::closed, false)>(p, i, r, tx0, ty0, f, s);
-                    break;
-                case Variant::slab:
-                    if (options.culling) cast_rect<cast_options(Variant::slab, true)>(p, i, r, tx0, ty0, f, s);
-                    else cast_rect<cast_options(Variant::slab, false)>(p, i, r, tx0, ty0, f, s);
-                    break;
-                case Variant::bounded:
-                    if (options.culling) cast_rect<cast_options(Variant::bounded, true)>(p, i, r, tx0, ty0, f, s);
-                    else cast_rect<cast_options(Variant::bounded, false)>(p, i, r, tx0, ty0, f, s);
-                    break;
-            }
+            dispatch_variant(p.variant, options.culling, [&]<CastOptions Opt>() { cast_rect<Opt>(p, i, r, tx0, ty0, f, s); });
         }
         // Shade the winners and write the tile (row 0 of the image is the top)
         for (int y = ty0; y <= ty1; ++y)

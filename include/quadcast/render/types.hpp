@@ -15,12 +15,18 @@ enum class Variant : std::uint8_t {
     closed,        ///< closed quadric, no clipping (spheres, ellipsoids): CastOptions{cull, slab=false, bound=false}
     slab,          ///< slab with caps (cylinders, cones):                   CastOptions{cull, slab=true,  bound=false}
     bounded,       ///< clipped to its bounding sphere (general quadrics):   CastOptions{cull, slab=false, bound=true}
+    planes,        ///< clipped to four planes (bilinear quads, planar quads, tetrahedral patches)
 };
-inline constexpr int variant_count = 3;
+inline constexpr int variant_count = 4;
 
 /// The CastOptions of a variant.
 constexpr CastOptions cast_options(Variant v, bool cull) {
-    return CastOptions{cull, v == Variant::slab, v == Variant::bounded};
+    return CastOptions{cull, v == Variant::slab, v == Variant::bounded, v == Variant::planes};
+}
+
+/// Kernel/shader name of a variant: closed, slab, bounded, planes.
+constexpr const char* variant_name(Variant v) {
+    return v == Variant::closed ? "closed" : v == Variant::slab ? "slab" : v == Variant::bounded ? "bounded" : "planes";
 }
 
 /// One primitive to draw, in float as the GPU stores it.
