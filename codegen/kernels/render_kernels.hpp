@@ -81,7 +81,7 @@ struct PrimitiveBoundKernel {
 template <bool Ortho>
 struct PrimitiveVertexKernel {
     static constexpr const char* name = Ortho ? "primitive_vertex_ortho" : "primitive_vertex_perspective";
-    static constexpr const char* source = "quadcast::local_ray (quadcast/raycast.hpp), quadcast::cull_sphere (quadcast/cull.hpp)";
+    static constexpr const char* source = "quadcast::local_ray, quadcast::cull_primitive (quadcast/raycast.hpp)";
     static constexpr const char* summary = "incremental ray casting: the ray terms at a corner of the bounding quad";
     template <class IO> static void run(IO& io) {
         using T = typename IO::T;
@@ -103,7 +103,7 @@ struct PrimitiveVertexKernel {
         io.out("g", r.g);
         io.out("a", r.a);
         if constexpr (Ortho) io.out("culled", mask_t<T>(false));
-        else io.out("culled", cull_sphere(p.q, r.o, vec3(T(0), T(0), T(0)), p.radius));
+        else io.out("culled", cull_primitive(p, r.o));
     }
     static void generate(std::mt19937& rng, std::span<float> in) {
         std::size_t p = 0;

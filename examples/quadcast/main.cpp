@@ -11,6 +11,7 @@ int main(int argc, char** argv) {
     CLI::App* bench = app.add_subcommand("bench", "benchmarks (ratios measured in one run)");
     bench->require_subcommand(1);
     quadcast::cli::add_bench_stability(*bench);
+    quadcast::cli::add_bench_spheres(*bench);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

@@ -2,6 +2,7 @@
 #include "scene_render.hpp"
 
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "quadcast/bilinear.hpp"
@@ -17,7 +18,7 @@ using V3 = Vec3<double>;
 Vec3<float> to_f(const V3& v) { return cast<float>(v); }
 
 Primitive make(const Quadric<double>& q_local, const V3& center, double radius, Variant variant, const V3& color,
-               const V3& axis = V3{{0.0, 0.0, 1.0}}, double half_length = 0.0) {
+               const V3& axis = V3{{0.0, 0.0, 1.0}}, double half_length = std::numeric_limits<double>::infinity()) {
     Primitive p{};
     p.shape.q.q = cast<float>(q_local.q);
     p.shape.center = to_f(center);

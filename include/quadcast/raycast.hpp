@@ -46,6 +46,18 @@ LocalRay<T> local_ray(const QuadricPrimitive<T>& p, const Vec3<T>& origin, const
     return {o, dir, A * o + xyz(p.q.q[3]), A * dir};
 }
 
+/// Per-quadric back-face culling of a primitive for an eye at local position o (Stoll et al.
+/// 2006, sec. 4.4.4, `cull_sphere` against the bounding sphere): true when no ray from the eye
+/// can meet a front-facing point of the primitive. The caps of a slab are planes whose outward
+/// normals face away from an eye strictly between them, so a slab primitive is culled only
+/// when the quadric is culled AND |dot(axis, o)| < half_length (non-slab primitives store
+/// half_length = +Inf, where the second test always holds).
+/// Numerics: `cull_sphere` (conservative under rounding); one dot product and a comparison.
+template <class T>
+mask_t<T> cull_primitive(const QuadricPrimitive<T>& p, const Vec3<T>& o) {
+    return cull_sphere(p.q, o, vec3(T(0), T(0), T(0)), p.radius) && (abs(dot(p.axis, o)) < p.half_length);
+}
+
 /// Options of a fragment-stage variant (plain C++ values: each combination is one kernel).
 struct CastOptions {
     bool cull = true;   ///< front-facing surface only (per-fragment back-face culling, Stoll eq. 14)

@@ -17,6 +17,8 @@
 //   (true for every primitive the scene builder makes).
 // - Depth is kept in float (a GL depth buffer may be 24-bit); the depth test is GL_LESS against
 //   a cleared depth of 1, first primitive (lowest index) wins ties.
+// - Per-quadric culling is `cull_primitive`, the rule the GL vertex stage uses (a slab
+//   primitive is culled only when the eye lies between its cap planes).
 
 #include <algorithm>
 #include <atomic>
@@ -55,8 +57,13 @@ struct PixelRay {
     Vec3<float> dir;
 };
 
+/// A closed pixel rectangle [x0, x1] x [y0, y1] in window coordinates (y up); empty if x0 > x1.
+struct PixelRect {
+    int x0 = 0, y0 = 0, x1 = -1, y1 = -1;
+};
+
 /// One primitive cast at one pixel ray: the fragment stage's outputs (hit already includes
-/// 0 <= depth <= 1) and the ray direction shading uses.
+/// 0 <= depth <= 1; normal unnormalised, outward).
 struct Fragment {
     bool hit = false;
     float depth = 1.0f;
@@ -71,7 +78,7 @@ inline Mat4<double> inverse4(const Mat4<double>& m) {
     long double a[4][8];
     for (int i = 0; i < 4; ++i)
         for (int j = 0; j < 4; ++j) {
-            a[i][j] = m[j][i];
+            a[i][j] = static_cast<long double>(m[j][i]);
             a[i][j + 4] = i == j ? 1.0L : 0.0L;
         }
     long double scale = 0;
@@ -99,11 +106,6 @@ inline Mat4<double> inverse4(const Mat4<double>& m) {
         for (int j = 0; j < 4; ++j) r[j][i] = static_cast<double>(a[i][j + 4]);
     return r;
 }
-
-/// A closed pixel rectangle [x0, x1] x [y0, y1] in window coordinates (y up); empty if x0 > x1.
-struct PixelRect {
-    int x0 = 0, y0 = 0, x1 = -1, y1 = -1;
-};
 
 /// The pixel index range whose centres (i + 0.5) lie in the window interval [lo, hi] widened
 /// by 1/16 pixel plus 1e-5 of its length (far more than the rounding of a float cast near a
@@ -155,6 +157,8 @@ inline FrameSetup frame_setup(const Camera& camera, int width, int height) {
         for (int i = 0; i < 4; ++i)
             if (!std::isfinite(camera.view[j][i]) || !std::isfinite(camera.projection[j][i]))
                 throw std::invalid_argument("quadcast::render: camera matrix is not finite");
+    for (int i = 0; i < 3; ++i)
+        if (!std::isfinite(camera.eye[i])) throw std::invalid_argument("quadcast::render: camera eye is not finite");
     FrameSetup f;
     f.width = width;
     f.height = height;
@@ -201,9 +205,9 @@ inline Fragment cast_fragment(const Primitive& p, const PixelRay& ray, const Fra
 /// face the eye when its wall does not (a cylinder seen end-on from inside its infinite
 /// extension would vanish).
 inline bool culled(const Primitive& p, const FrameSetup& f) {
-    if (f.orthographic || p.variant == Variant::slab) return false;
+    if (f.orthographic) return false;
     const LocalRay<float> r = local_ray(p.shape, f.eye, vec3(0.0f, 0.0f, -1.0f));
-    return cull_sphere(p.shape.q, r.o, vec3(0.0f, 0.0f, 0.0f), p.shape.radius);
+    return cull_primitive(p.shape, r.o);
 }
 
 /// The RGBA8 of a fragment: `shade_blinn_phong(n, -light.direction, -dir, color, light.color,
@@ -219,12 +223,12 @@ inline void shade_pixel(const Primitive& p, const Vec3<float>& normal, const Vec
 /// sphere, or an empty one when no hit can survive (off screen, behind the eye, outside the
 /// depth range). Host-side, in double: `sphere_quad` of the view-space centre (the GPU's
 /// bounding quad; the square c +- r for orthographic cameras), its corners projected by P,
-/// widened by 1/16 pixel (`pixel_span`); the full screen when the eye is inside the sphere or a corner lies on
-/// or behind the eye plane.
-inline cpu_detail::PixelRect screen_rect(const QuadricPrimitive<float>& p, const FrameSetup& f) {
+/// widened by 1/16 pixel (`pixel_span`); the full screen when the eye is inside the sphere or
+/// a corner lies on or behind the eye plane.
+inline PixelRect screen_rect(const QuadricPrimitive<float>& p, const FrameSetup& f) {
     using namespace cpu_detail;
     PixelRect empty;
-    const double r = p.radius;
+    const double r = static_cast<double>(p.radius);
     if (!(r > 0) || !std::isfinite(r) || !std::isfinite(p.center[0]) || !std::isfinite(p.center[1]) ||
         !std::isfinite(p.center[2]))
         return empty;

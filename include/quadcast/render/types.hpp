@@ -29,7 +29,8 @@ constexpr const char* variant_name(Variant v) {
     return v == Variant::closed ? "closed" : v == Variant::slab ? "slab" : v == Variant::bounded ? "bounded" : "planes";
 }
 
-/// One primitive to draw, in float as the GPU stores it.
+/// One primitive to draw, in float as the GPU stores it. Non-slab primitives have
+/// shape.half_length = +Inf (see `cull_primitive`).
 struct Primitive {
     QuadricPrimitive<float> shape;
     Variant variant;

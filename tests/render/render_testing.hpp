@@ -1,0 +1,294 @@
+// tests/render/render_testing.hpp -- cameras, primitives and long-double pixel rays for the renderer tests
+#pragma once
+
+#include <limits>
+
+#include <cmath>
+#include <cstdint>
+#include <random>
+
+#include "quadcast/linalg.hpp"
+#include "quadcast/quadric.hpp"
+#include "quadcast/render/cpu_renderer.hpp"
+#include "quadcast/render/types.hpp"
+
+namespace qc_render_test {
+
+// quadcast::render's names, and the core's vocabulary by name (quadcast::Primitive, the
+// parameter-space primitive, would clash with render::Primitive).
+using namespace quadcast::render;
+using quadcast::cast;
+using quadcast::cross;
+using quadcast::dot;
+using quadcast::identity;
+using quadcast::Mat3;
+using quadcast::Mat4;
+using quadcast::normalize;
+using quadcast::Quadric;
+using quadcast::quadric_from_abc;
+using quadcast::vec3;
+using quadcast::Vec3;
+using quadcast::vec4;
+using quadcast::Vec4;
+using quadcast::zero_mat;
+using LD = long double;
+using V3 = Vec3<LD>;
+
+inline std::mt19937 rng_for(std::uint32_t test_id, std::uint32_t iteration) {
+    std::seed_seq seq{test_id, iteration};
+    return std::mt19937(seq);
+}
+inline double uniform(std::mt19937& rng, double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(rng); }
+inline Vec3<double> random_dir(std::mt19937& rng) {
+    std::normal_distribution<double> n;
+    Vec3<double> v{};
+    double l = 0;
+    do {
+        v = vec3(n(rng), n(rng), n(rng));
+        l = std::sqrt(dot(v, v));
+    } while (l < 1e-3);
+    return v / l;
+}
+
+inline LD dot_ld(const V3& a, const V3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+inline LD norm_ld(const V3& a) { return std::sqrt(dot_ld(a, a)); }
+template <class T>
+V3 ld(const Vec3<T>& v) { return vec3(LD(v[0]), LD(v[1]), LD(v[2])); }
+
+// Cameras (built in double, stored in float as both renderers take them) -------------------------
+
+/// OpenGL gluPerspective.
+inline Mat4<float> perspective(double fovy_deg, double aspect, double n, double f) {
+    const double t = 1.0 / std::tan(fovy_deg * M_PI / 360.0);
+    Mat4<double> p = zero_mat<double, 4, 4>();
+    p[0][0] = t / aspect;
+    p[1][1] = t;
+    p[2][2] = -(f + n) / (f - n);
+    p[3][2] = -2.0 * f * n / (f - n);
+    p[2][3] = -1.0;
+    return cast<float>(p);
+}
+
+/// OpenGL glOrtho.
+inline Mat4<float> orthographic(double l, double r, double b, double t, double n, double f) {
+    Mat4<double> p = identity<double, 4>();
+    p[0][0] = 2.0 / (r - l);
+    p[1][1] = 2.0 / (t - b);
+    p[2][2] = -2.0 / (f - n);
+    p[3][0] = -(r + l) / (r - l);
+    p[3][1] = -(t + b) / (t - b);
+    p[3][2] = -(f + n) / (f - n);
+    return cast<float>(p);
+}
+
+/// gluLookAt; the eye is rounded to float first so that view and eye agree.
+inline Camera look_at(const Vec3<double>& eye_d, const Vec3<double>& target, const Vec3<double>& up, const Mat4<float>& proj,
+                      bool ortho = false) {
+    const Vec3<float> eye_f = cast<float>(eye_d);
+    const Vec3<double> eye = cast<double>(eye_f);
+    const Vec3<double> zf = normalize(eye - target);
+    const Vec3<double> x = normalize(cross(up, zf));
+    const Vec3<double> y = cross(zf, x);
+    Mat4<double> v = identity<double, 4>();
+    for (int j = 0; j < 3; ++j) {
+        v[j][0] = x[j];
+        v[j][1] = y[j];
+        v[j][2] = zf[j];
+    }
+    v[3][0] = -dot(x, eye);
+    v[3][1] = -dot(y, eye);
+    v[3][2] = -dot(zf, eye);
+    return Camera{cast<float>(v), proj, eye_f, ortho};
+}
+
+// Primitives ------------------------------------------------------------------------------------
+
+inline Primitive sphere(const Vec3<float>& c, float r, Vec3<float> color = vec3(0.8f, 0.3f, 0.2f)) {
+    Primitive p{};
+    p.shape.q = quadric_from_abc(identity<float, 3>(), vec3(0.0f, 0.0f, 0.0f), -(r * r));
+    p.shape.center = c;
+    p.shape.radius = r;
+    p.shape.axis = vec3(0.0f, 0.0f, 1.0f);
+    p.shape.half_length = std::numeric_limits<float>::infinity();
+    p.variant = Variant::closed;
+    p.color = color;
+    return p;
+}
+
+/// Capped circular cylinder: |x - (x.a) a|^2 <= r^2, |x.a| <= h (A = I - a a^T, c = -r^2).
+inline Primitive cylinder(const Vec3<float>& c, const Vec3<float>& axis, float r, float h,
+                          Vec3<float> color = vec3(0.2f, 0.6f, 0.9f)) {
+    Primitive p{};
+    Mat3<float> A = identity<float, 3>();
+    for (int j = 0; j < 3; ++j)
+        for (int i = 0; i < 3; ++i) A[j][i] = A[j][i] - axis[i] * axis[j];
+    p.shape.q = quadric_from_abc(A, vec3(0.0f, 0.0f, 0.0f), -(r * r));
+    p.shape.center = c;
+    p.shape.radius = std::sqrt(r * r + h * h) * 1.0001f;
+    p.shape.axis = axis;
+    p.shape.half_length = h;
+    p.variant = Variant::slab;
+    p.color = color;
+    return p;
+}
+
+/// Ellipsoid with orthonormal axes e0, e1, e2 and semi-axes s: A = sum e_i e_i^T / s_i^2, c = -1.
+inline Primitive ellipsoid(const Vec3<float>& c, const Vec3<double> e[3], const Vec3<double>& s,
+                           Vec3<float> color = vec3(0.4f, 0.8f, 0.3f)) {
+    Mat3<double> A = zero_mat<double, 3, 3>();
+    for (int k = 0; k < 3; ++k)
+        for (int j = 0; j < 3; ++j)
+            for (int i = 0; i < 3; ++i) A[j][i] += e[k][i] * e[k][j] / (s[k] * s[k]);
+    Primitive p{};
+    p.shape.q = quadric_from_abc(cast<float>(A), vec3(0.0f, 0.0f, 0.0f), -1.0f);
+    p.shape.center = c;
+    p.shape.radius = float(std::max({s[0], s[1], s[2]}) * 1.0001);
+    p.shape.axis = vec3(0.0f, 0.0f, 1.0f);
+    p.shape.half_length = std::numeric_limits<float>::infinity();
+    p.variant = Variant::closed;
+    p.color = color;
+    return p;
+}
+
+/// A general quadric in local coordinates clipped to its bounding sphere.
+inline Primitive bounded(const Vec3<float>& c, const Quadric<float>& q, float radius, Vec3<float> color = vec3(0.9f, 0.9f, 0.2f)) {
+    Primitive p{};
+    p.shape.q = q;
+    p.shape.center = c;
+    p.shape.radius = radius;
+    p.shape.axis = vec3(0.0f, 0.0f, 1.0f);
+    p.shape.half_length = std::numeric_limits<float>::infinity();
+    p.variant = Variant::bounded;
+    p.color = color;
+    return p;
+}
+
+// Exact pixel rays -------------------------------------------------------------------------------
+
+/// The exact ray of window pixel (x, y) for the float camera, in long double: the pixel centre
+/// unprojected through P^-1 (Gauss-Jordan in long double) and rotated by R^T.
+struct ExactCamera {
+    LD pinv[4][4];
+    LD rot[3][3];  // R (world -> view)
+    V3 eye;
+    int w, h;
+    bool ortho;
+
+    ExactCamera(const Camera& cam, int width, int height) : w(width), h(height), ortho(cam.orthographic) {
+        LD a[4][8];
+        for (int i = 0; i < 4; ++i)
+            for (int j = 0; j < 4; ++j) {
+                a[i][j] = LD(cam.projection[j][i]);
+                a[i][j + 4] = i == j;
+            }
+        for (int c = 0; c < 4; ++c) {
+            int p = c;
+            for (int i = c + 1; i < 4; ++i)
+                if (std::fabs(a[i][c]) > std::fabs(a[p][c])) p = i;
+            for (int j = 0; j < 8; ++j) std::swap(a[p][j], a[c][j]);
+            const LD d = a[c][c];
+            for (int j = 0; j < 8; ++j) a[c][j] /= d;
+            for (int i = 0; i < 4; ++i)
+                if (i != c) {
+                    const LD f = a[i][c];
+                    for (int j = 0; j < 8; ++j) a[i][j] -= f * a[c][j];
+                }
+        }
+        for (int i = 0; i < 4; ++i)
+            for (int j = 0; j < 4; ++j) pinv[i][j] = a[i][j + 4];
+        for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j) rot[i][j] = LD(cam.view[j][i]);
+        eye = ld(cam.eye);
+    }
+    /// View-space point on the near plane through the pixel centre.
+    V3 near_point(int x, int y) const {
+        const LD nd[4] = {(2 * (x + 0.5L)) / w - 1, (2 * (y + 0.5L)) / h - 1, -1, 1};
+        LD hv[4] = {0, 0, 0, 0};
+        for (int i = 0; i < 4; ++i)
+            for (int j = 0; j < 4; ++j) hv[i] += pinv[i][j] * nd[j];
+        return vec3(hv[0] / hv[3], hv[1] / hv[3], hv[2] / hv[3]);
+    }
+    V3 rot_t(const V3& p) const {  // R^T p
+        V3 r{};
+        for (int j = 0; j < 3; ++j) r[j] = rot[0][j] * p[0] + rot[1][j] * p[1] + rot[2][j] * p[2];
+        return r;
+    }
+    void ray(int x, int y, V3& origin, V3& dir) const {
+        const V3 p = near_point(x, y);
+        if (ortho) {
+            origin = eye + rot_t(vec3(p[0], p[1], LD(0)));
+            dir = rot_t(vec3(LD(0), LD(0), LD(-1)));
+        } else {
+            origin = eye;
+            dir = rot_t(p);
+        }
+    }
+    /// View-space z of a world point relative to the eye.
+    LD view_z(const V3& x) const { return rot[2][0] * (x[0] - eye[0]) + rot[2][1] * (x[1] - eye[1]) + rot[2][2] * (x[2] - eye[2]); }
+};
+
+/// Window depth of view z for the float projection, in long double.
+inline LD exact_depth(const Mat4<float>& p, LD z) {
+    return 0.5L * ((LD(p[2][2]) * z + LD(p[3][2])) / (LD(p[2][3]) * z + LD(p[3][3]))) + 0.5L;
+}
+
+/// Nearest hit t > 0 of the ray o + t d with the sphere (c, r) grown by `grow` (absolute), or
+/// -1 if none.
+inline LD sphere_hit(const V3& o, const V3& d, const V3& c, LD r) {
+    const V3 oc = o - c;
+    const LD a = dot_ld(d, d), b = dot_ld(oc, d), cc = dot_ld(oc, oc) - r * r;
+    const LD disc = b * b - a * cc;
+    if (disc < 0) return -1;
+    const LD s = std::sqrt(disc);
+    const LD t0 = (-b - s) / a, t1 = (-b + s) / a;
+    if (t0 > 0) return t0;
+    if (t1 > 0) return t1;
+    return -1;
+}
+
+/// Distance from c to the ray's line.
+inline LD line_distance(const V3& o, const V3& d, const V3& c) {
+    const V3 oc = c - o;
+    const LD t = dot_ld(oc, d) / dot_ld(d, d);
+    return norm_ld(oc - d * t);
+}
+
+/// Nearest hit t > 0 of the ray with the capped cylinder (centre c, unit axis a, radius r,
+/// half-length h), or -1. The solid is the intersection of the slab and the infinite cylinder.
+inline LD cylinder_hit(const V3& o, const V3& d, const V3& c, const V3& a, LD r, LD h) {
+    const V3 oc = o - c;
+    LD t_in = -1e300L, t_out = 1e300L;
+    // Slab
+    const LD ad = dot_ld(a, d), ao = dot_ld(a, oc);
+    if (ad == 0) {
+        if (std::fabs(ao) > h) return -1;
+    } else {
+        LD t0 = (-h - ao) / ad, t1 = (h - ao) / ad;
+        if (t0 > t1) std::swap(t0, t1);
+        t_in = std::max(t_in, t0);
+        t_out = std::min(t_out, t1);
+    }
+    // Infinite cylinder
+    const V3 dp = d - a * ad, op = oc - a * ao;
+    const LD qa = dot_ld(dp, dp), qb = dot_ld(op, dp), qc = dot_ld(op, op) - r * r;
+    if (qa == 0) {
+        if (qc > 0) return -1;
+    } else {
+        const LD disc = qb * qb - qa * qc;
+        if (disc < 0) return -1;
+        const LD s = std::sqrt(disc);
+        t_in = std::max(t_in, (-qb - s) / qa);
+        t_out = std::min(t_out, (-qb + s) / qa);
+    }
+    if (t_in > t_out || t_out <= 0) return -1;
+    return t_in > 0 ? t_in : t_out;
+}
+
+inline bool covered(const Image& img, int x, int y_window) {
+    return img.depth[std::size_t(img.height - 1 - y_window) * img.width + x] < 1.0f;
+}
+inline float depth_at(const Image& img, int x, int y_window) {
+    return img.depth[std::size_t(img.height - 1 - y_window) * img.width + x];
+}
+
+}  // namespace qc_render_test
