@@ -4,10 +4,10 @@ BUILD ?= build
 JOBS ?= $(shell nproc)
 DEB_PACKAGES := cmake g++ clang make pkg-config libeigen3-dev libglm-dev glslang-tools glslang-dev \
   doctest-dev libosmesa6-dev libcli11-dev nlohmann-json3-dev libtbb-dev libmpfrc++-dev libmpfr-dev \
-  libgmp-dev libbenchmark-dev libpng-dev nlohmann-json3-dev pymol-data
+  libgmp-dev libbenchmark-dev libpng-dev nlohmann-json3-dev pymol-data zlib1g-dev
 DEMO_PACKAGES :=
 
-.PHONY: all deps demo-deps configure build test demo regenerate clean
+.PHONY: all deps demo-deps configure build test demo regenerate clean data
 
 all: build
 
@@ -45,6 +45,12 @@ demo: build demo-deps
 	  $(BUILD)/examples/quadcast render examples/demo/$$s.json -o demo-out/$$s.png --width 1024 --height 768 --frames 10 || exit 1; \
 	done
 	@echo "PNGs in demo-out/"
+
+# CGAL's sample volumes and meshes (skull_2.9.inr, liver.inr.gz, armadillo.off, bunny00.off) from
+# the Debian package libcgal-demo, downloaded once into $(DATA_DIR).
+DATA_DIR ?= $(BUILD)/data
+data:
+	examples/volume/fetch_cgal_data.sh $(DATA_DIR)
 
 regenerate: build
 	$(BUILD)/codegen/quadcast-codegen --out generated

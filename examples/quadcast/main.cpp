@@ -8,6 +8,8 @@ int main(int argc, char** argv) {
     app.require_subcommand(1);
     quadcast::cli::add_verify(app);
     quadcast::cli::add_render(app);
+    quadcast::cli::add_spline_coeffs(app);
+    quadcast::cli::add_volume_info(app);
     CLI::App* bench = app.add_subcommand("bench", "benchmarks (ratios measured in one run)");
     bench->require_subcommand(1);
     quadcast::cli::add_bench_stability(*bench);
