@@ -66,10 +66,10 @@ Stage vertex_shader(bool ortho) {
          "flat out uint qc_prim;\n"
       << q << "out vec3 qc_o;\n" << vq << "out vec3 qc_v;\n" << q << "out vec3 qc_g;\n" << vq << "out vec3 qc_a;\n\n";
     m << fns.str();
-    m << "const int qc_corner_of_vertex[6] = int[6](0, 1, 2, 0, 2, 3);\n\n"
+    m << "// Indexed draw: vertex 4 i + k is corner k of primitive qc_first + i (two triangles share two).\n"
          "void main()\n{\n"
-         "    uint prim = qc_first + uint(gl_VertexID) / 6u;\n"
-         "    int k = qc_corner_of_vertex[gl_VertexID % 6];\n"
+         "    uint prim = qc_first + uint(gl_VertexID) / 4u;\n"
+         "    int k = gl_VertexID % 4;\n"
          "    qc_Primitive p = qc_prims[prim];\n"
          "    mat4 q = qc_record_quadric(p);\n"
          "    vec3 c0, c1, c2, c3;\n    bool valid;\n"

@@ -373,8 +373,10 @@ struct RayQuadratic {
 /// (the idea of re-origining the ray close to the primitive, Haines et al., Ray Tracing Gems,
 /// ch. 7, applied to general quadrics). The error is then ~eps d instead of ~eps d^2.
 /// Where the quadratic is nearly linear (`is_linear_case`: |alpha gamma| <= tau beta^2, x0 is
-/// far away and nothing cancels) and where alpha = 0, the error-free `discriminant_accurate` is
-/// used instead.
+/// far away) and where alpha = 0, the plain beta^2 - alpha gamma is used instead: there it
+/// cannot cancel (|alpha gamma| <= tau beta^2 with tau ~ 2^-10), so its relative error stays
+/// ~2 eps, and the error-free `discriminant_accurate` (which a traced select would evaluate
+/// for every fragment) is not needed.
 /// Numerics: g = A o + b, a = A v (left folds), then `ray_quadratic_incremental`.
 /// One division more than eq. 10.
 template <class T>
@@ -390,7 +392,7 @@ RayQuadratic<T> ray_quadratic_local(const Quadric<T>& q_local, const Vec3<T>& o,
 /// `ray_quadratic_local` the result is the same bits.
 /// Numerics: alpha = dot(v, a); beta = dot(g, v); gamma = dot(o, g + b) + c; lambda0 =
 /// -beta / alpha; x0 = o + lambda0 v; A x0 + b = g + lambda0 a; f(x0) = dot(x0, (g + lambda0 a)
-/// + b) + c; disc = -(alpha f(x0)), or `discriminant_accurate` in the linear case.
+/// + b) + c; disc = -(alpha f(x0)), or `discriminant_naive` in the linear case.
 template <class T>
 RayQuadratic<T> ray_quadratic_incremental(const Quadric<T>& q_local, const Vec3<T>& o, const Vec3<T>& v,
                                           const Vec3<T>& g, const Vec3<T>& a) {
@@ -403,7 +405,7 @@ RayQuadratic<T> ray_quadratic_incremental(const Quadric<T>& q_local, const Vec3<
     const T lambda0 = -c.beta / select(geometric, c.alpha, T(1));
     const Vec3<T> x0 = o + lambda0 * v;
     const T f0 = dot(x0, (g + lambda0 * a) + b) + c0;
-    const T disc = select(geometric, -(c.alpha * f0), discriminant_accurate(c));
+    const T disc = select(geometric, -(c.alpha * f0), discriminant_naive(c));
     return {c, disc};
 }
 

@@ -150,12 +150,11 @@ void qc_primitive_vertex_ortho(in mat4 qc_q, in vec3 qc_center, in float qc_radi
     qc_culled = false;
 }
 
-const int qc_corner_of_vertex[6] = int[6](0, 1, 2, 0, 2, 3);
-
+// Indexed draw: vertex 4 i + k is corner k of primitive qc_first + i (two triangles share two).
 void main()
 {
-    uint prim = qc_first + uint(gl_VertexID) / 6u;
-    int k = qc_corner_of_vertex[gl_VertexID % 6];
+    uint prim = qc_first + uint(gl_VertexID) / 4u;
+    int k = gl_VertexID % 4;
     qc_Primitive p = qc_prims[prim];
     mat4 q = qc_record_quadric(p);
     vec3 c0, c1, c2, c3;

@@ -1,8 +1,9 @@
 // quadcast/gl/quadric_renderer.hpp -- OpenGL 4.5 renderer of quadric primitives (generated shaders)
 #pragma once
 // Host-only. One record per primitive in a shader storage buffer, pulled by gl_VertexID (no
-// vertex attributes, no display lists): 6 vertices = one bounding quad per primitive. The
-// vertex stage does the per-primitive work once per corner (bounding quad, ray terms, culling),
+// vertex attributes, no display lists): 4 indexed vertices = one bounding quad per primitive. The
+// vertex stage does the per-primitive work once per corner (bounding quad, ray terms, culling;
+// an index buffer shares the two corners of the quad's diagonal),
 // the fragment stage casts the interpolated ray (incremental ray casting). Shaders come from
 // quadcast/generated/shaders.hpp: one variant per (primitive kind, culling, camera model); a
 // scene compiles only the variants it uses.
@@ -52,11 +53,13 @@ public:
         api.GenVertexArrays(1, &vao_);
         api.GenBuffers(1, &ssbo_);
         api.GenBuffers(1, &planes_);
+        api.GenBuffers(1, &indices_);
     }
     ~QuadricRenderer() {
         release_fbo();
         api_->DeleteBuffers(1, &ssbo_);
         api_->DeleteBuffers(1, &planes_);
+        api_->DeleteBuffers(1, &indices_);
         api_->DeleteVertexArrays(1, &vao_);
     }
     QuadricRenderer(const QuadricRenderer&) = delete;
@@ -85,6 +88,18 @@ public:
                          records.empty() ? nullptr : records.data(), GL_STATIC_DRAW);
         api_->BindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
         count_ = records.size();
+        // Two triangles per bounding quad over its 4 corners, so the vertex stage runs 4 times
+        // per primitive (the post-transform cache reuses the shared corners).
+        std::vector<std::uint32_t> idx(6 * std::max<std::size_t>(1, count_));
+        for (std::size_t i = 0; i < idx.size() / 6; ++i) {
+            const auto b = static_cast<std::uint32_t>(4 * i);
+            const std::uint32_t quad[6] = {b, b + 1, b + 2, b, b + 2, b + 3};
+            std::copy_n(quad, 6, idx.begin() + static_cast<std::ptrdiff_t>(6 * i));
+        }
+        api_->BindVertexArray(vao_);
+        api_->BindBuffer(GL_ELEMENT_ARRAY_BUFFER, indices_);
+        api_->BufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(idx.size() * sizeof(std::uint32_t)), idx.data(), GL_STATIC_DRAW);
+        api_->BindVertexArray(0);
     }
 
     /// Draws one frame into the offscreen framebuffer and waits for it (glFinish).
@@ -108,7 +123,7 @@ public:
             gl.UseProgram(prog.id());
             set_uniforms(prog, cam, light, opt);
             gl.Uniform1ui(prog.uniform_location("qc_first"), ranges_[v].first);
-            gl.DrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(6 * ranges_[v].second));
+            gl.DrawElements(GL_TRIANGLES, static_cast<GLsizei>(6 * ranges_[v].second), GL_UNSIGNED_INT, nullptr);
         }
         gl.UseProgram(0);
         gl.BindVertexArray(0);
@@ -239,7 +254,7 @@ private:
     }
 
     const Api* api_;
-    GLuint vao_ = 0, ssbo_ = 0, planes_ = 0, fbo_ = 0, tex_[2] = {0, 0};
+    GLuint vao_ = 0, ssbo_ = 0, planes_ = 0, indices_ = 0, fbo_ = 0, tex_[2] = {0, 0};
     int width_ = 0, height_ = 0;
     std::size_t count_ = 0;
     std::pair<std::uint32_t, std::uint32_t> ranges_[render::variant_count] = {};
