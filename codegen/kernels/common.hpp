@@ -27,6 +27,16 @@ inline Vec3<float> random_direction(std::mt19937& rng) {
     return normalize(v);
 }
 
+/// A random rotation: rows x, y, z of an orthonormal right-handed frame (column-major Mat3:
+/// m[j][i] = axis_i[j], i.e. the world -> frame rotation).
+inline Mat3<float> random_rotation(std::mt19937& rng) {
+    const Vec3<float> z = random_direction(rng), t = random_direction(rng);
+    const Vec3<float> x = normalize(cross(t, z)), y = cross(z, x);
+    Mat3<float> r{};
+    for (int j = 0; j < 3; ++j) { r[j][0] = x[j]; r[j][1] = y[j]; r[j][2] = z[j]; }
+    return r;
+}
+
 /// A random symmetric 4x4 conic matrix: an ellipsoid, a hyperboloid, a cylinder, or plain noise,
 /// at a random scale and position (the regimes the kernels meet in scenes).
 inline Mat4<float> random_quadric(std::mt19937& rng) {

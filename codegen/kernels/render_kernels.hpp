@@ -65,9 +65,8 @@ struct PrimitiveBoundKernel {
     static void generate(std::mt19937& rng, std::span<float> in) {
         std::size_t p = 0;
         Mat4<float> v = identity<float, 4>();
-        const Vec3<float> z = random_direction(rng), t = random_direction(rng);
-        const Vec3<float> x = normalize(cross(t, z)), y = cross(z, x);
-        for (int j = 0; j < 3; ++j) { v[j][0] = x[j]; v[j][1] = y[j]; v[j][2] = z[j]; }
+        const Mat3<float> r = random_rotation(rng);
+        for (int j = 0; j < 3; ++j) v[j] = vec4(r[j], 0.0f);
         v[3] = vec4(random_point(rng, 20.0f), 1.0f);
         put(in, p, v);
         put(in, p, random_point(rng, 30.0f));
@@ -109,11 +108,7 @@ struct PrimitiveVertexKernel {
         std::size_t p = 0;
         put_primitive(rng, in, p);
         put(in, p, random_point(rng, 10.0f));
-        Mat3<float> r = identity<float, 3>();
-        const Vec3<float> z = random_direction(rng), t = random_direction(rng);
-        const Vec3<float> x = normalize(cross(t, z)), y = cross(z, x);
-        r[0] = x; r[1] = y; r[2] = z;
-        put(in, p, r);
+        put(in, p, transpose(random_rotation(rng)));  // view -> world
         put(in, p, random_point(rng, 60.0f));
     }
 };
