@@ -35,14 +35,14 @@ build: configure
 test: build
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
 
-DEMO_SCENES := 1tii_balls_and_sticks 1tii_space_filling il2_balls_and_sticks il2_space_filling quads_cube primitives
+DEMO_SCENES := 1tii_balls_and_sticks 1tii_space_filling il2_balls_and_sticks il2_space_filling quads_cube primitives marschner_lobb_qss
 
 demo: build demo-deps
 	@mkdir -p demo-out
 	$(BUILD)/examples/quadcast verify
 	$(BUILD)/examples/quadcast bench stability
 	@for s in $(DEMO_SCENES); do \
-	  $(BUILD)/examples/quadcast render examples/demo/$$s.json -o demo-out/$$s.png --width 1024 --height 768 --frames 10 || exit 1; \
+	  $(BUILD)/examples/quadcast render examples/demo/$$s.json -o demo-out/$$s.png --width 1024 --height 768 --frames 3 || exit 1; \
 	done
 	@echo "PNGs in demo-out/"
 

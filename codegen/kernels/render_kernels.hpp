@@ -1,11 +1,13 @@
 // codegen/kernels/render_kernels.hpp -- the per-primitive and per-fragment kernels of the quadric renderer
 #pragma once
 
+#include <cmath>
 #include <string>
 
 #include "kernels/common.hpp"
 #include "quadcast/bounds.hpp"
 #include "quadcast/raycast.hpp"
+#include "quadcast/shading.hpp"
 
 namespace quadcast::codegen::kernels {
 
@@ -80,7 +82,7 @@ struct PrimitiveBoundKernel {
 template <bool Ortho>
 struct PrimitiveVertexKernel {
     static constexpr const char* name = Ortho ? "primitive_vertex_ortho" : "primitive_vertex_perspective";
-    static constexpr const char* source = "quadcast::local_ray, quadcast::cull_primitive (quadcast/raycast.hpp)";
+    static constexpr const char* source = "quadcast::local_ray, quadcast::cull_primitive, quadcast::cull_primitive_with_caps (quadcast/raycast.hpp)";
     static constexpr const char* summary = "incremental ray casting: the ray terms at a corner of the bounding quad";
     template <class IO> static void run(IO& io) {
         using T = typename IO::T;
@@ -101,8 +103,13 @@ struct PrimitiveVertexKernel {
         io.out("v", r.v);
         io.out("g", r.g);
         io.out("a", r.a);
-        if constexpr (Ortho) io.out("culled", mask_t<T>(false));
-        else io.out("culled", cull_primitive(p, r.o));
+        if constexpr (Ortho) {
+            io.out("culled", mask_t<T>(false));
+            io.out("culled_caps", mask_t<T>(false));
+        } else {
+            io.out("culled", cull_primitive(p, r.o));
+            io.out("culled_caps", cull_primitive_with_caps(p, r.o));
+        }
     }
     static void generate(std::mt19937& rng, std::span<float> in) {
         std::size_t p = 0;
@@ -176,6 +183,131 @@ struct ShadeKernel {
         put(in, p, vec3(uniform(rng, 0.0f, 1.0f), uniform(rng, 0.0f, 1.0f), uniform(rng, 0.0f, 1.0f)));
         put(in, p, vec3(1.0f, 1.0f, 1.0f));
         put(in, p, vec4(0.15f, 0.85f, 0.35f, uniform(rng, 1.0f, 128.0f)));
+    }
+};
+
+
+/// Deferred pass: silhouette and crease outlines from a 3x3 neighbourhood of the geometry buffer
+/// (`silhouette_weight`), blended over the shaded colour (`apply_outline`).
+struct SilhouetteKernel {
+    static constexpr const char* name = "silhouette";
+    static constexpr const char* source = "quadcast::silhouette_weight, quadcast::apply_outline (quadcast/shading.hpp)";
+    static constexpr const char* summary = "Sobel silhouettes (linearised depth) and creases (normals), outline blend";
+    template <class IO> static void run(IO& io) {
+        using T = typename IO::T;
+        T d[9];
+        Vec3<T> n[9];
+        for (int i = 0; i < 9; ++i) d[i] = io.scalar("d" + std::to_string(i));
+        for (int i = 0; i < 9; ++i) n[i] = io.template vec<3>("n" + std::to_string(i));
+        const Vec4<T> pz = io.template vec<4>("pz");
+        const Vec4<T> params = io.template vec<4>("params");
+        const Vec3<T> rgb = io.template vec<3>("rgb");
+        io.out("shaded", apply_outline(rgb, silhouette_weight(d, n, pz, params), params[2]));
+    }
+    static void generate(std::mt19937& rng, std::span<float> in) {
+        std::size_t p = 0;
+        const float base = uniform(rng, 0.9f, 0.999f);
+        for (int i = 0; i < 9; ++i) put(in, p, uniform(rng, 0.0f, 1.0f) < 0.15f ? 1.0f : base + uniform(rng, -0.01f, 0.0f));
+        for (int i = 0; i < 9; ++i) put(in, p, uniform(rng, 0.0f, 1.0f) < 0.1f ? vec3(0.0f, 0.0f, 0.0f) : random_direction(rng) * uniform(rng, 0.1f, 3.0f));
+        put(in, p, vec4(-1.002f, -0.2002f, -1.0f, 0.0f));
+        put(in, p, vec4(0.04f, 0.6f, uniform(rng, 0.0f, 1.0f), 0.0f));
+        put(in, p, vec3(uniform(rng, 0.0f, 1.0f), uniform(rng, 0.0f, 1.0f), uniform(rng, 0.0f, 1.0f)));
+    }
+};
+
+
+/// Soft shadows: the lit fraction of the first 8 PCF samples and whether they agree (`pcf_first8`).
+struct PcfFirst8Kernel {
+    static constexpr const char* name = "pcf_first8";
+    static constexpr const char* source = "quadcast::pcf_first8 (quadcast/shading.hpp)";
+    static constexpr const char* summary = "percentage-closer filtering, 8-sample penumbra test (Sigg et al. 2006, sec. 4)";
+    template <class IO> static void run(IO& io) {
+        using T = typename IO::T;
+        const T z = io.scalar("z"), bias = io.scalar("bias");
+        T s[8];
+        for (int i = 0; i < 8; ++i) s[i] = io.scalar("s" + std::to_string(i));
+        const PcfFirst<T> f = pcf_first8(z, bias, s);
+        io.out("lit", f.lit);
+        io.out("decided", f.decided);
+    }
+    static void generate(std::mt19937& rng, std::span<float> in) {
+        std::size_t p = 0;
+        const float z = uniform(rng, 0.0f, 1.0f);
+        put(in, p, z);
+        put(in, p, uniform(rng, 0.0f, 0.01f));
+        const float spread = uniform(rng, 0.0f, 1.0f) < 0.5f ? 0.0f : 0.02f;
+        const float centre = z + uniform(rng, -0.02f, 0.02f);
+        for (int i = 0; i < 8; ++i) put(in, p, centre + uniform(rng, -spread, spread));
+    }
+};
+
+/// Soft shadows: the lit fraction of all 64 PCF samples (`pcf_lit_fraction<64>`).
+struct Pcf64Kernel {
+    static constexpr const char* name = "pcf64";
+    static constexpr const char* source = "quadcast::pcf_lit_fraction<64> (quadcast/shading.hpp)";
+    static constexpr const char* summary = "percentage-closer filtering with 64 samples (Sigg et al. 2006, sec. 4)";
+    template <class IO> static void run(IO& io) {
+        using T = typename IO::T;
+        const T z = io.scalar("z"), bias = io.scalar("bias");
+        T s[64];
+        for (int i = 0; i < 64; ++i) s[i] = io.scalar("s" + std::to_string(i));
+        io.out("lit", pcf_lit_fraction<64>(z, bias, s));
+    }
+    static void generate(std::mt19937& rng, std::span<float> in) {
+        std::size_t p = 0;
+        const float z = uniform(rng, 0.0f, 1.0f);
+        put(in, p, z);
+        put(in, p, uniform(rng, 0.0f, 0.01f));
+        for (int i = 0; i < 64; ++i) put(in, p, z + uniform(rng, -0.02f, 0.02f));
+    }
+};
+
+
+/// Soft shadows: a pixel's shadow-map texel position and light depth (`shadow_coord`).
+struct ShadowCoordKernel {
+    static constexpr const char* name = "shadow_coord";
+    static constexpr const char* source = "quadcast::shadow_coord (quadcast/shading.hpp)";
+    static constexpr const char* summary = "camera window position -> shadow-map texel and light depth";
+    template <class IO> static void run(IO& io) {
+        using T = typename IO::T;
+        const Vec2<T> frag = io.template vec<2>("frag");
+        const T d = io.scalar("depth");
+        const Vec2<T> viewport = io.template vec<2>("viewport");
+        const Mat4<T> m = io.template mat<4>("to_light");
+        const T size = io.scalar("size");
+        const ShadowCoord<T> c = shadow_coord(frag, d, viewport, m, size);
+        io.out("texel", c.texel);
+        io.out("z", c.z);
+    }
+    static void generate(std::mt19937& rng, std::span<float> in) {
+        std::size_t p = 0;
+        put(in, p, vec2(std::floor(uniform(rng, 0.0f, 1024.0f)) + 0.5f, std::floor(uniform(rng, 0.0f, 768.0f)) + 0.5f));
+        put(in, p, uniform(rng, 0.0f, 1.0f));
+        put(in, p, vec2(1024.0f, 768.0f));
+        Mat4<float> m{};
+        for (int j = 0; j < 4; ++j) m[j] = vec4(random_point(rng, 2.0f), uniform(rng, -1.0f, 1.0f));
+        m[3][3] = uniform(rng, 0.5f, 2.0f);
+        put(in, p, m);
+        put(in, p, 1024.0f);
+    }
+};
+
+/// Soft shadows: Blinn-Phong with diffuse and specular attenuated by the PCF visibility.
+struct ShadeShadowedKernel {
+    static constexpr const char* name = "shade_blinn_phong_shadowed";
+    static constexpr const char* source = "quadcast::shade_blinn_phong_shadowed (quadcast/shading.hpp)";
+    static constexpr const char* summary = "Blinn-Phong shading in partial shadow";
+    template <class IO> static void run(IO& io) {
+        using T = typename IO::T;
+        const Vec3<T> n = io.template vec<3>("n"), l = io.template vec<3>("l"), e = io.template vec<3>("e");
+        const Vec3<T> color = io.template vec<3>("color"), light = io.template vec<3>("light");
+        const Vec4<T> material = io.template vec<4>("material");
+        const T vis = io.scalar("vis");
+        io.out("rgb", shade_blinn_phong_shadowed(n, l, e, color, light, material, vis));
+    }
+    static void generate(std::mt19937& rng, std::span<float> in) {
+        ShadeKernel::generate(rng, in);
+        in[19] = std::floor(uniform(rng, 0.0f, 65.0f)) / 64.0f;
     }
 };
 

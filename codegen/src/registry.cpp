@@ -6,6 +6,7 @@
 #include "kernels/bounds_kernels.hpp"
 #include "kernels/render_kernels.hpp"
 #include "kernels/spline_kernels.hpp"
+#include "kernels/spline_render_kernels.hpp"
 
 namespace quadcast::codegen {
 
@@ -44,6 +45,11 @@ const std::vector<KernelDef>& registry() {
         make_kernel<FragmentCastKernel<CastOptions{true, false, false, true}>>(),
         make_kernel<FragmentCastKernel<CastOptions{false, false, false, true}>>(),
         make_kernel<ShadeKernel>(),
+        make_kernel<SilhouetteKernel>(),
+        make_kernel<PcfFirst8Kernel>(),
+        make_kernel<Pcf64Kernel>(),
+        make_kernel<ShadowCoordKernel>(),
+        make_kernel<ShadeShadowedKernel>(),
         make_kernel<SplineTet0CoefficientsKernel<2>>(),
         make_kernel<SplineTet0CoefficientsKernel<3>>(),
         make_kernel<SplineBarycentricKernel>(),
@@ -55,6 +61,9 @@ const std::vector<KernelDef>& registry() {
         make_kernel<CubicFirstRootNewtonKernel>(),
         make_kernel<ValueGradientKernel<2>>(),
         make_kernel<ValueGradientKernel<3>>(),
+        make_kernel<SplinePieceHitKernel<2>>(),
+        make_kernel<SplinePieceHitKernel<3>>(),
+        make_kernel<TrilinearCellHitKernel>(),
     };
     return all;
 }

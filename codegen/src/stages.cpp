@@ -7,6 +7,7 @@
 
 #include "quadcast/codegen/emit.hpp"
 #include "quadcast/codegen/generate.hpp"
+#include "quadcast/shading.hpp"
 
 namespace quadcast::codegen {
 
@@ -62,7 +63,7 @@ Stage vertex_shader(bool ortho) {
     m << record_glsl;
     m << "uniform mat4 qc_view;\nuniform mat4 qc_projection;\nuniform mat3 qc_view_rot_inv;\nuniform vec3 qc_eye;\n"
          "uniform vec3 qc_near_corners[4];  // view space, used when the eye is inside a bounding sphere\n"
-         "uniform bool qc_cull;\nuniform uint qc_first;\n\n"
+         "uniform bool qc_cull;\nuniform bool qc_caps;   // the variant closes a slab with caps\nuniform uint qc_first;\n\n"
          "flat out uint qc_prim;\n"
       << q << "out vec3 qc_o;\n" << vq << "out vec3 qc_v;\n" << q << "out vec3 qc_g;\n" << vq << "out vec3 qc_a;\n\n";
     m << fns.str();
@@ -76,22 +77,25 @@ Stage vertex_shader(bool ortho) {
          "    qc_primitive_bound_" << proj << "(qc_view, p.center.xyz, p.q2.z, c0, c1, c2, c3, valid);\n"
          "    vec3 corners[4] = vec3[4](c0, c1, c2, c3);\n"
          "    vec3 corner = valid ? corners[k] : qc_near_corners[k];\n"
-         "    bool culled;\n"
+         "    bool culled, culled_caps;\n"
          "    qc_primitive_vertex_" << proj << "(q, p.center.xyz, p.q2.z, p.axis.xyz, p.q2.w, corner, qc_view_rot_inv, qc_eye,\n"
-         "        qc_o, qc_v, qc_g, qc_a, culled);\n"
+         "        qc_o, qc_v, qc_g, qc_a, culled, culled_caps);\n"
          "    qc_prim = prim;\n"
-         "    gl_Position = (qc_cull && culled) ? vec4(2.0, 2.0, 2.0, 1.0) : qc_projection * vec4(corner, 1.0);\n"
+         "    gl_Position = (qc_cull && (qc_caps ? culled_caps : culled)) ? vec4(2.0, 2.0, 2.0, 1.0) : qc_projection * vec4(corner, 1.0);\n"
          "}\n";
     s.text = m.str();
     return s;
 }
 
-Stage fragment_shader(const std::string& variant, bool ortho) {
+/// The quadric pass: forward (cast and shade) or, with `gbuffer`, cast and write the geometry
+/// buffer of the deferred pass (Sigg et al. 2006, sec. 4): normal and window depth, ray direction
+/// (the shading's eye vector) and colour.
+Stage fragment_shader(const std::string& variant, bool ortho, bool gbuffer = false) {
     Stage s;
     const bool planes = variant.rfind("planes", 0) == 0;
     std::ostringstream fns;
     add_kernel(s, fns, "fragment_" + variant);
-    add_kernel(s, fns, "shade_blinn_phong");
+    if (!gbuffer) add_kernel(s, fns, "shade_blinn_phong");
     const char* q = ortho ? "" : "flat ";
     const char* vq = ortho ? "flat " : "";
     std::ostringstream m;
@@ -102,12 +106,18 @@ Stage fragment_shader(const std::string& variant, bool ortho) {
              "layout(std430, binding = 1) readonly buffer qc_PlaneSets { qc_Planes qc_planes[]; };\n"
              "uniform uint qc_first;\n\n";
     m << "uniform vec3 qc_vz_row;       // third row of the world->view rotation\n"
-         "uniform vec4 qc_pz;           // P22, P32, P23, P33 of the projection\n"
-         "uniform vec3 qc_light_dir;    // towards the scene\nuniform vec3 qc_light_color;\n"
-         "uniform vec4 qc_material;     // ambient, diffuse, specular, shininess\n\n"
-         "flat in uint qc_prim;\n"
-      << q << "in vec3 qc_o;\n" << vq << "in vec3 qc_v;\n" << q << "in vec3 qc_g;\n" << vq << "in vec3 qc_a;\n"
-         "layout(location = 0) out vec4 qc_color;\n\n";
+         "uniform vec4 qc_pz;           // P22, P32, P23, P33 of the projection\n";
+    if (!gbuffer)
+        m << "uniform vec3 qc_light_dir;    // towards the scene\nuniform vec3 qc_light_color;\n"
+             "uniform vec4 qc_material;     // ambient, diffuse, specular, shininess\n";
+    m << "\nflat in uint qc_prim;\n"
+      << q << "in vec3 qc_o;\n" << vq << "in vec3 qc_v;\n" << q << "in vec3 qc_g;\n" << vq << "in vec3 qc_a;\n";
+    if (gbuffer)
+        m << "layout(location = 0) out vec4 qc_gnormal;  // normal (unnormalised), window depth\n"
+             "layout(location = 1) out vec4 qc_gview;    // ray direction, 1 (covered)\n"
+             "layout(location = 2) out vec4 qc_gcolor;   // colour, 1\n\n";
+    else
+        m << "layout(location = 0) out vec4 qc_color;\n\n";
     m << fns.str();
     m << "void main()\n{\n"
          "    qc_Primitive p = qc_prims[qc_prim];\n"
@@ -116,10 +126,109 @@ Stage fragment_shader(const std::string& variant, bool ortho) {
       << (planes ? "        qc_planes[qc_prim - qc_first].p[0], qc_planes[qc_prim - qc_first].p[1], qc_planes[qc_prim - qc_first].p[2], qc_planes[qc_prim - qc_first].p[3],\n" : "")
       << "        qc_o, qc_v, qc_g, qc_a, qc_vz_row, qc_pz, hit, depth, n);\n"
          "    if (!hit) discard;\n"
-         "    gl_FragDepth = depth;\n"
-         "    vec3 rgb;\n"
-         "    qc_shade_blinn_phong(n, -qc_light_dir, -qc_v, p.color.rgb, qc_light_color, qc_material, rgb);\n"
-         "    qc_color = vec4(rgb, 1.0);\n"
+         "    gl_FragDepth = depth;\n";
+    if (gbuffer)
+        m << "    qc_gnormal = vec4(n, depth);\n"
+             "    qc_gview = vec4(qc_v, 1.0);\n"
+             "    qc_gcolor = vec4(p.color.rgb, 1.0);\n"
+             "}\n";
+    else
+        m << "    vec3 rgb;\n"
+             "    qc_shade_blinn_phong(n, -qc_light_dir, -qc_v, p.color.rgb, qc_light_color, qc_material, rgb);\n"
+             "    qc_color = vec4(rgb, 1.0);\n"
+             "}\n";
+    s.text = m.str();
+    return s;
+}
+
+/// The full-screen triangle of the deferred pass (positions from gl_VertexID; no numbers).
+const char* fullscreen_vertex =
+    "void main()\n{\n"
+    "    vec2 p = vec2(float((gl_VertexID & 1) * 4 - 1), float((gl_VertexID & 2) * 2 - 1));\n"
+    "    gl_Position = vec4(p, 0.0, 1.0);\n"
+    "}\n";
+
+/// The deferred pass (Sigg et al. 2006, sec. 4): per pixel, Blinn-Phong from the geometry buffer
+/// (`shade_blinn_phong` with the same arguments as the forward pass: bit-identical colour), the
+/// background where nothing was hit; with `silhouettes` the outline of `silhouette` from the 3x3
+/// neighbourhood (texel coordinates clamped to the image).
+Stage deferred_shader(bool silhouettes, bool shadows) {
+    Stage s;
+    std::ostringstream fns;
+    add_kernel(s, fns, shadows ? "shade_blinn_phong_shadowed" : "shade_blinn_phong");
+    if (silhouettes) add_kernel(s, fns, "silhouette");
+    if (shadows) {
+        add_kernel(s, fns, "shadow_coord");
+        add_kernel(s, fns, "pcf_first8");
+        add_kernel(s, fns, "pcf64");
+    }
+    std::ostringstream m;
+    m << "layout(binding = 0) uniform sampler2D qc_gnormal;  // normal, window depth (1 = background)\n"
+         "layout(binding = 1) uniform sampler2D qc_gview;    // ray direction, covered (0 or 1)\n"
+         "layout(binding = 2) uniform sampler2D qc_gcolor;   // colour\n"
+         "uniform vec3 qc_light_dir;    // towards the scene\nuniform vec3 qc_light_color;\n"
+         "uniform vec4 qc_material;     // ambient, diffuse, specular, shininess\n"
+         "uniform vec3 qc_background;\n";
+    if (silhouettes)
+        m << "uniform vec4 qc_pz;           // P22, P32, P23, P33 of the projection\n"
+             "uniform vec4 qc_silhouette_params;  // depth threshold, normal threshold, strength, unused\n";
+    if (shadows) {
+        m << "layout(binding = 3) uniform sampler2D qc_shadow_map;  // window depth from the light\n"
+             "uniform mat4 qc_to_light;     // camera NDC -> light clip space\n"
+             "uniform vec2 qc_viewport;\n"
+             "uniform float qc_shadow_size;  // shadow map size (texels)\n"
+             "uniform float qc_shadow_bias;  // light window depth\n"
+             "uniform int qc_pcf_step;       // texels between PCF samples\n"
+             "// PCF samples: grid index (8x8) in quadcast::pcf_grid_order, the first 8 spread out.\n"
+             "const int qc_pcf_order[64] = int[64](";
+        for (int i = 0; i < 64; ++i) m << (i ? ", " : "") << pcf_grid_order[i];
+        m << ");\n";
+    }
+    m << "layout(location = 0) out vec4 qc_color;\n\n";
+    m << fns.str();
+    if (shadows)
+        m << "float qc_shadow_sample(ivec2 base, int k)\n{\n"
+             "    int g = qc_pcf_order[k];\n"
+             "    ivec2 o = ivec2(g % 8, g / 8) * qc_pcf_step - (7 * qc_pcf_step) / 2;  // quadcast::pcf_offset\n"
+             "    return texelFetch(qc_shadow_map, clamp(base + o, ivec2(0), textureSize(qc_shadow_map, 0) - 1), 0).r;\n"
+             "}\n\n";
+    m << "void main()\n{\n"
+         "    ivec2 px = ivec2(gl_FragCoord.xy);\n"
+         "    vec4 gn = texelFetch(qc_gnormal, px, 0);\n"
+         "    vec4 gv = texelFetch(qc_gview, px, 0);\n"
+         "    vec3 rgb = qc_background;\n"
+         "    if (gv.w != 0.0) {\n";
+    if (shadows)
+        m << "        vec2 st;\n        float lz;\n"
+             "        qc_shadow_coord(gl_FragCoord.xy, gn.w, qc_viewport, qc_to_light, qc_shadow_size, st, lz);\n"
+             "        ivec2 base = ivec2(floor(st));\n"
+             "        float s[64];\n"
+             "        for (int k = 0; k < 8; ++k) s[k] = qc_shadow_sample(base, k);\n"
+             "        float vis;\n        bool decided;\n"
+             "        qc_pcf_first8(lz, qc_shadow_bias, s[0], s[1], s[2], s[3], s[4], s[5], s[6], s[7], vis, decided);\n"
+             "        if (!decided) {  // penumbra: all 64 samples (Sigg et al. 2006, sec. 4)\n"
+             "            for (int k = 8; k < 64; ++k) s[k] = qc_shadow_sample(base, k);\n"
+             "            qc_pcf64(lz, qc_shadow_bias";
+    if (shadows) {
+        for (int i = 0; i < 64; ++i) m << (i % 8 == 0 ? ",\n                " : ", ") << "s[" << i << "]";
+        m << ", vis);\n"
+             "        }\n"
+             "        qc_shade_blinn_phong_shadowed(gn.xyz, -qc_light_dir, -gv.xyz, texelFetch(qc_gcolor, px, 0).rgb, qc_light_color, qc_material, vis, rgb);\n";
+    } else {
+        m << "        qc_shade_blinn_phong(gn.xyz, -qc_light_dir, -gv.xyz, texelFetch(qc_gcolor, px, 0).rgb, qc_light_color, qc_material, rgb);\n";
+    }
+    m << "    }\n";
+    if (silhouettes) {
+        m << "    ivec2 last = textureSize(qc_gnormal, 0) - 1;\n"
+             "    vec4 t[9];\n"
+             "    for (int r = 0; r < 3; ++r)\n"
+             "        for (int c = 0; c < 3; ++c)  // row 0 = top (window y + 1)\n"
+             "            t[3 * r + c] = texelFetch(qc_gnormal, clamp(px + ivec2(c - 1, 1 - r), ivec2(0), last), 0);\n"
+             "    qc_silhouette(t[0].w, t[1].w, t[2].w, t[3].w, t[4].w, t[5].w, t[6].w, t[7].w, t[8].w,\n"
+             "        t[0].xyz, t[1].xyz, t[2].xyz, t[3].xyz, t[4].xyz, t[5].xyz, t[6].xyz, t[7].xyz, t[8].xyz,\n"
+             "        qc_pz, qc_silhouette_params, rgb, rgb);\n";
+    }
+    m << "    qc_color = vec4(rgb, 1.0);\n"
          "}\n";
     s.text = m.str();
     return s;
@@ -140,8 +249,21 @@ std::vector<StageShader> render_stage_shaders() {
             const std::string fname = std::string("qc_quadric_") + variant + "_" + proj + ".frag";
             out.push_back({fname, "glsl/render/" + fname,
                            "#version 450 core\n" + banner("glsl/render/" + fname, f.sources, f.ops, std::string("quadric renderer: fragment stage, ") + variant + ", " + proj + " camera") + "\n" + f.text});
+            const Stage g = fragment_shader(variant, ortho, true);
+            const std::string gname = std::string("qc_gbuffer_") + variant + "_" + proj + ".frag";
+            out.push_back({gname, "glsl/render/" + gname,
+                           "#version 450 core\n" + banner("glsl/render/" + gname, g.sources, g.ops, std::string("quadric renderer: geometry-buffer fragment stage (deferred shading), ") + variant + ", " + proj + " camera") + "\n" + g.text});
         }
     }
+    out.push_back({"qc_fullscreen.vert", "glsl/render/qc_fullscreen.vert",
+                   "#version 450 core\n" + banner("glsl/render/qc_fullscreen.vert", "", {}, "deferred shading: full-screen triangle") + "\n" + fullscreen_vertex});
+    for (bool shadows : {false, true})
+        for (bool sil : {false, true}) {
+            const Stage d = deferred_shader(sil, shadows);
+            const std::string dname = std::string("qc_deferred") + (shadows ? "_shadows" : "") + (sil ? "_silhouettes" : "") + ".frag";
+            out.push_back({dname, "glsl/render/" + dname,
+                           "#version 450 core\n" + banner("glsl/render/" + dname, d.sources, d.ops, std::string("deferred shading: Blinn-Phong from the geometry buffer") + (shadows ? ", soft shadows (64-sample PCF, 8-sample early-out)" : "") + (sil ? ", silhouette and crease outlines" : "")) + "\n" + d.text});
+        }
     return out;
 }
 

@@ -14,6 +14,7 @@ int main(int argc, char** argv) {
     bench->require_subcommand(1);
     quadcast::cli::add_bench_stability(*bench);
     quadcast::cli::add_bench_spheres(*bench);
+    quadcast::cli::add_bench_culling(*bench);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

@@ -72,7 +72,8 @@ void bounding_sphere(const std::array<V3, N>& pts, V3& c, double& r) {
 }
 
 /// A quadric given relative to `origin`, clipped to the tetrahedron of `corners`: stored relative
-/// to the tetrahedron's bounding sphere with its inward face planes there.
+/// to the tetrahedron's bounding sphere with its inward face planes there, scaled as barycentric
+/// coordinates (no normal slab: half_length = +Inf).
 Primitive planes_primitive(const Quadric<double>& q_rel, const V3& origin, const std::array<V3, 4>& corners, const V3& color) {
     V3 c;
     double r;
@@ -82,13 +83,16 @@ Primitive planes_primitive(const Quadric<double>& q_rel, const V3& origin, const
     BoundingTet<double> t{};
     for (int i = 0; i < 4; ++i) t.p[i] = corners[static_cast<std::size_t>(i)] - c;
     const TetPlanes<double> pl = tet_planes(t);
-    for (int i = 0; i < 4; ++i) p.shape.planes[i] = cast<float>(pl.plane[i] / length(xyz(pl.plane[i])));
+    // Scale each face plane to the barycentric coordinate of its opposite corner (1 there).
+    for (int i = 0; i < 4; ++i) p.shape.planes[i] = cast<float>(pl.plane[i] / dot(pl.plane[i], vec4(t.p[i], 1.0)));
     return p;
 }
 
-/// A planar (convex) quad or a triangle: the plane n.(x - p1) = 0 clipped by the inward edge
-/// planes (each containing an edge and the normal).
-Primitive planar_quad_primitive(const std::array<V3, 4>& q, const V3& color) {
+/// A quad: its quadric (given relative to `origin`; nullptr for a planar quad or a triangle,
+/// which is its plane), clipped by its four edges extruded along the quad's normal n (each plane
+/// scaled to 1 at the farthest corner) and by the slab |n.x| <= half-thickness (+2^-10 of its
+/// size) that keeps the quadric's far sheet out (see `inside_planes`).
+Primitive quad_primitive(const Quadric<double>* q_rel, const V3& origin, const std::array<V3, 4>& q, const V3& color) {
     V3 c;
     double r;
     bounding_sphere(q, c, r);
@@ -99,17 +103,27 @@ Primitive planar_quad_primitive(const std::array<V3, 4>& q, const V3& color) {
         if (length(m) > length(n)) n = m;
     }
     n = n / length(n);
-    Quadric<double> plane{zero_mat<double, 4, 4>()};
-    for (int i = 0; i < 3; ++i) plane.q[3][i] = plane.q[i][3] = 0.5 * n[i];
-    plane.q[3][3] = -dot(n, q[0] - c);
-    Primitive p = make(plane, c, r, Variant::planes, color);
+    Quadric<double> local{};
+    if (q_rel) {
+        local = translate_to_eye(*q_rel, c - origin);
+    } else {
+        local.q = zero_mat<double, 4, 4>();
+        for (int i = 0; i < 3; ++i) local.q[3][i] = local.q[i][3] = 0.5 * n[i];
+        local.q[3][3] = -dot(n, q[0] - c);
+    }
+    double thick = 0;
+    for (const V3& corner : q) thick = std::max(thick, std::fabs(dot(n, corner - c)));
+    Primitive p = make(local, c, r, Variant::planes, color, n, thick + r * 0x1.0p-10);
     for (int i = 0; i < 4; ++i) {
         const V3 a = q[static_cast<std::size_t>(i)] - c, b = q[static_cast<std::size_t>((i + 1) % 4)] - c;
         V3 e = cross(n, b - a);
         const double le = length(e);
         if (!(le > 0)) { p.shape.planes[i] = vec4(0.0f, 0.0f, 0.0f, 1.0f); continue; }  // repeated corner: no constraint
-        e = e / le;
-        p.shape.planes[i] = cast<float>(vec4(e, -dot(e, a)));
+        // Scale to 1 at the farthest corner (a barycentric-like coordinate across the quad).
+        const Vec4<double> pl = vec4(e / le, -dot(e / le, a));
+        double far = 0;
+        for (const V3& corner : q) far = std::max(far, dot(pl, vec4(corner - c, 1.0)));
+        p.shape.planes[i] = cast<float>(far > 0 ? pl / far : pl);
     }
     return p;
 }
@@ -186,9 +200,9 @@ Frame build_frame(const scene::Scene& s, int width, int height) {
         const auto& p = x.p;
         const QuadConversion<double> conv = quad_to_quadric(p[0], p[1], p[2], p[3]);
         if (conv.ok()) {
-            fr.primitives.push_back(planes_primitive(conv.local.quadric, conv.local.origin, p, x.material.color));
+            fr.primitives.push_back(quad_primitive(&conv.local.quadric, conv.local.origin, p, x.material.color));
         } else if (conv.kind == QuadKind::planar || conv.kind == QuadKind::triangle) {
-            fr.primitives.push_back(planar_quad_primitive(p, x.material.color));
+            fr.primitives.push_back(quad_primitive(nullptr, V3{{0.0, 0.0, 0.0}}, p, x.material.color));
         } else {
             ++skipped;
         }
@@ -213,8 +227,9 @@ Frame build_frame(const scene::Scene& s, int width, int height) {
     fr.options.height = height;
     fr.options.culling = s.options.culling;
     fr.options.background = cast<float>(s.options.background);
-    if (s.options.deferred || s.options.shadows || s.options.silhouettes)
-        fr.notes.push_back("deferred shading, shadows and silhouettes are not implemented yet: forward Phong shading");
+    fr.options.deferred = s.options.deferred;
+    fr.options.silhouettes = s.options.silhouettes;
+    fr.options.shadows = s.options.shadows;
     return fr;
 }
 

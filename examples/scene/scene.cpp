@@ -161,11 +161,20 @@ Aabb Scene::bounds() const {
     for (const auto& x : cones) b.extend(scene::bounds(x));
     for (const auto& x : quadrics) b.extend(scene::bounds(x));
     for (const auto& x : quads) b.extend(scene::bounds(x));
+    for (const auto& x : volumes)
+        if (!x.box.empty()) b.extend(x.box);
     return b;
 }
 
+namespace {
+VolumeBoxFunction g_volume_box = nullptr;
+}
+
+void set_volume_box_function(VolumeBoxFunction f) { g_volume_box = f; }
+VolumeBoxFunction volume_box_function() { return g_volume_box; }
+
 std::size_t Scene::primitive_count() const {
-    return spheres.size() + ellipsoids.size() + cylinders.size() + cones.size() + quadrics.size() + quads.size();
+    return spheres.size() + ellipsoids.size() + cylinders.size() + cones.size() + quadrics.size() + quads.size() + volumes.size();
 }
 
 Camera fit_camera(const Aabb& box, double fov_y_deg) {

@@ -161,6 +161,27 @@ Aabb bounds(const Cone& c);
 Aabb bounds(const Quadric& q);
 Aabb bounds(const BilinearQuad& q);
 
+/// An isosurface of a volume (the "volume" object kind). The scene records only what to load;
+/// the volume library (examples/volume, `quadcast::volume::load_volume`) reads the samples and
+/// the CPU spline renderer draws them. `box` is the world box of the samples: known for the
+/// synthetic volumes, for files filled by the installed `volume_box_function` (empty if none).
+struct Volume {
+    enum class Scheme { qss, s31, trilinear };
+    std::string input;       ///< resolved file path, or the synthetic name "marschner-lobb" / "franke"
+    bool synthetic = false;
+    int size = 0;            ///< synthetic: samples per axis (0 = the generator's default)
+    double iso = 0.0;
+    Scheme scheme = Scheme::qss;
+    Material material;
+    Aabb box;
+};
+
+/// Computes the world box of a file volume (installed by programs that link the volume library;
+/// may throw, the loader reports the message at the "volume" value).
+using VolumeBoxFunction = Aabb (*)(const Volume&);
+void set_volume_box_function(VolumeBoxFunction f);
+VolumeBoxFunction volume_box_function();
+
 /// Everything the renderer draws: one vector per primitive kind.
 struct Scene {
     std::filesystem::path source;  ///< the scene file ("" when built in code)
@@ -174,11 +195,12 @@ struct Scene {
     std::vector<Cone> cones;
     std::vector<Quadric> quadrics;
     std::vector<BilinearQuad> quads;
+    std::vector<Volume> volumes;  ///< isosurfaces, drawn by the CPU spline renderer
 
     /// Problems that were handled in a documented way while loading (print them).
     Warnings warnings;
 
-    /// Box around every primitive; empty when there are none.
+    /// Box around every primitive and volume; empty when there are none.
     Aabb bounds() const;
     std::size_t primitive_count() const;
 };

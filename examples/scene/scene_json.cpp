@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <numbers>
@@ -209,6 +210,51 @@ void load_off(ObjectContext& ctx) {
     ctx.scene.quads.insert(ctx.scene.quads.end(), quads.begin(), quads.end());
 }
 
+/// "volume": "path" or "synthetic:marschner_lobb[:N]" / "synthetic:franke[:N]"; "iso" (required),
+/// "scheme": "qss" (default) | "s31" | "trilinear". Synthetic boxes are known ([-1,1]^3 and
+/// [0,1]^3); a file's box comes from `volume_box_function()` when one is installed.
+void load_volume(ObjectContext& ctx) {
+    Volume v;
+    v.material = ctx.material;
+    v.iso = ctx.entry.at("iso").number();
+    if (const auto s = ctx.entry.get("scheme")) {
+        const std::string k = s->choice({"qss", "s31", "trilinear"});
+        v.scheme = k == "s31" ? Volume::Scheme::s31 : k == "trilinear" ? Volume::Scheme::trilinear : Volume::Scheme::qss;
+    }
+    const std::string text = ctx.value.string();
+    if (text.rfind("synthetic:", 0) == 0) {
+        std::string rest = text.substr(10), name = rest;
+        const std::size_t colon = rest.find(':');
+        if (colon != std::string::npos) {
+            name = rest.substr(0, colon);
+            const std::string num = rest.substr(colon + 1);
+            char* end = nullptr;
+            const long n = std::strtol(num.c_str(), &end, 10);
+            if (num.empty() || *end != '\0' || n < 2 || n > 1024)
+                ctx.value.fail("the sample count after '" + name + ":' must be an integer in [2, 1024], got '" + num + "'");
+            v.size = static_cast<int>(n);
+        }
+        std::replace(name.begin(), name.end(), '_', '-');
+        if (name != "marschner-lobb" && name != "franke")
+            ctx.value.fail("unknown synthetic volume '" + name + "' (expected marschner_lobb or franke)");
+        v.input = name;
+        v.synthetic = true;
+        const double lo = name == "franke" ? 0.0 : -1.0;
+        v.box.extend(Vec3d{{lo, lo, lo}});
+        v.box.extend(Vec3d{{1.0, 1.0, 1.0}});
+    } else {
+        v.input = ctx.file_path().string();
+        if (const VolumeBoxFunction f = volume_box_function()) {
+            try {
+                v.box = f(v);
+            } catch (const std::exception& e) {
+                ctx.value.fail(e.what());
+            }
+        }
+    }
+    ctx.scene.volumes.push_back(v);
+}
+
 // Scene sections -------------------------------------------------------------------------------
 
 Material load_material(const JsonNode& entry, bool& color_given) {
@@ -345,6 +391,7 @@ const std::vector<ObjectKind>& object_kinds() {
         {"quad", {}, load_quad},
         {"pdb", {"style", "ball_scale", "bond_radius", "vdw_scale", "strict"}, load_pdb},
         {"off", {"triangles"}, load_off},
+        {"volume", {"iso", "scheme"}, load_volume},
     };
     return kinds;
 }

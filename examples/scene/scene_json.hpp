@@ -55,7 +55,7 @@ struct ObjectKind {
     ObjectLoader load;
 };
 
-/// The registered object kinds: sphere, ellipsoid, cylinder, cone, quadric, quad, pdb, off.
+/// The registered object kinds: sphere, ellipsoid, cylinder, cone, quadric, quad, pdb, off, volume.
 const std::vector<ObjectKind>& object_kinds();
 
 }  // namespace quadcast::scene

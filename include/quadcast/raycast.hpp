@@ -23,7 +23,7 @@ struct QuadricPrimitive {
     T half_length;
     /// Inward planes (local coordinates) of a convex clip volume, for the `planes` variants: the
     /// faces of a bounding tetrahedron (bilinear quads, tetrahedral quadric patches), or the edge
-    /// planes of a planar quad. x is inside when dot(plane[i], (x, 1)) >= 0 for all i.
+    /// planes of a planar quad, scaled as barycentric coordinates (see `inside_planes`).
     Vec4<T> planes[4];
 };
 
@@ -48,14 +48,19 @@ LocalRay<T> local_ray(const QuadricPrimitive<T>& p, const Vec3<T>& origin, const
 
 /// Per-quadric back-face culling of a primitive for an eye at local position o (Stoll et al.
 /// 2006, sec. 4.4.4, `cull_sphere` against the bounding sphere): true when no ray from the eye
-/// can meet a front-facing point of the primitive. The caps of a slab are planes whose outward
-/// normals face away from an eye strictly between them, so a slab primitive is culled only
-/// when the quadric is culled AND |dot(axis, o)| < half_length (non-slab primitives store
-/// half_length = +Inf, where the second test always holds).
-/// Numerics: `cull_sphere` (conservative under rounding); one dot product and a comparison.
+/// can meet a front-facing point of the quadric in its bound.
+/// Numerics: `cull_sphere` (conservative under rounding).
 template <class T>
 mask_t<T> cull_primitive(const QuadricPrimitive<T>& p, const Vec3<T>& o) {
-    return cull_sphere(p.q, o, vec3(T(0), T(0), T(0)), p.radius) && (abs(dot(p.axis, o)) < p.half_length);
+    return cull_sphere(p.q, o, vec3(T(0), T(0), T(0)), p.radius);
+}
+
+/// `cull_primitive` for the capped `slab` variants: the caps are planes whose outward normals
+/// face away from an eye strictly between them, so the primitive is culled only when the
+/// quadric is culled AND |dot(axis, o)| < half_length.
+template <class T>
+mask_t<T> cull_primitive_with_caps(const QuadricPrimitive<T>& p, const Vec3<T>& o) {
+    return cull_primitive(p, o) && (abs(dot(p.axis, o)) < p.half_length);
 }
 
 /// Options of a fragment-stage variant (plain C++ values: each combination is one kernel).
@@ -74,6 +79,24 @@ struct CastHit {
     Vec3<T> x;
     Vec3<T> normal;
 };
+
+/// The clip test of the `planes` variants: dot(plane[i], (x, 1)) >= -2^-12 for all four planes.
+/// The planes are stored scaled to 1 at the farthest corner (barycentric coordinates of a
+/// tetrahedron; for a quad, its four edges extruded along the quad's normal), so the slack is
+/// relative to the element's size. Neighbouring patches share edges, on which a hit lies on a
+/// plane of both; without slack rounding can reject it from both (pinholes along shared edges).
+/// Quads are clipped by their extruded edges, not by their tetrahedron: a nearly planar quad has
+/// a thin tetrahedron whose faces are almost tangent to the patch, so tiny normal errors of a
+/// hit become large barycentric errors there, and any slack admits a strip of the quadric
+/// beyond the patch; the extruded edge planes are perpendicular to the patch instead.
+/// Numerics: four left-fold dot products and comparisons.
+template <class T>
+mask_t<T> inside_planes(const QuadricPrimitive<T>& p, const Vec3<T>& x) {
+    const Vec4<T> xh = vec4(x, T(1));
+    const T slack = T(-0.000244140625);
+    return ((dot(p.planes[0], xh) >= slack && dot(p.planes[1], xh) >= slack) && dot(p.planes[2], xh) >= slack) &&
+           dot(p.planes[3], xh) >= slack;
+}
 
 namespace raycast_detail {
 
@@ -114,7 +137,7 @@ CastHit<T> cast(const QuadricPrimitive<T>& p, const LocalRay<T>& r) {
         mask_t<T> in = mask_t<T>(true);
         if constexpr (Opt.bound) in = dot(x, x) <= r2;
         if constexpr (Opt.slab) in = in && (abs(dot(p.axis, x)) <= p.half_length);
-        if constexpr (Opt.planes) in = in && inside_tet(TetPlanes<T>{{p.planes[0], p.planes[1], p.planes[2], p.planes[3]}}, x);
+        if constexpr (Opt.planes) in = (in && inside_planes(p, x)) && (abs(dot(p.axis, x)) <= p.half_length);
         return in;
     };
     auto quadric_candidate = [&](const T& lambda, const mask_t<T>& valid) {

@@ -19,6 +19,7 @@
 #include "quadcast/generated/shaders.hpp"
 #include "quadcast/gl/loader.hpp"
 #include "quadcast/gl/program.hpp"
+#include "quadcast/render/cpu_renderer.hpp"
 #include "quadcast/render/types.hpp"
 
 namespace quadcast::gl {
@@ -56,6 +57,7 @@ public:
         api.GenBuffers(1, &indices_);
     }
     ~QuadricRenderer() {
+        release_shadow_map();
         release_fbo();
         api_->DeleteBuffers(1, &ssbo_);
         api_->DeleteBuffers(1, &planes_);
@@ -70,6 +72,7 @@ public:
         std::vector<PrimitiveRecord> records;
         std::vector<float> planes;  // 16 floats per primitive of the planes variant, in record order
         records.reserve(prims.size());
+        prims_ = prims;
         for (int v = 0; v < render::variant_count; ++v) {
             ranges_[v] = {static_cast<std::uint32_t>(records.size()), 0};
             for (const auto& p : prims) {
@@ -106,31 +109,63 @@ public:
     void draw(const render::Camera& cam, const render::Light& light, const render::RenderOptions& opt) {
         const Api& gl = *api_;
         ensure_fbo(opt.width, opt.height);
-        gl.BindFramebuffer(GL_FRAMEBUFFER, fbo_);
-        gl.Viewport(0, 0, opt.width, opt.height);
-        const float bg[4] = {opt.background[0], opt.background[1], opt.background[2], 1.0f};
-        const float one = 1.0f;
-        gl.ClearBufferfv(GL_COLOR, 0, bg);
-        gl.ClearBufferfv(GL_DEPTH, 0, &one);
-        gl.Enable(GL_DEPTH_TEST);
-        gl.DepthFunc(GL_LESS);
+        const bool deferred = opt.deferred || opt.silhouettes || opt.shadows;
         gl.BindVertexArray(vao_);
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, ssbo_);
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, planes_);
+        if (opt.shadows) {
+            // Shadow map: the geometry-buffer programs from the light camera, depth only.
+            light_cam_ = render::light_camera(prims_, light);
+            ensure_shadow_map(opt.shadow_map_size);
+            gl.BindFramebuffer(GL_FRAMEBUFFER, sfbo_);
+            gl.Viewport(0, 0, shadow_size_, shadow_size_);
+            const float clear_one = 1.0f;
+            gl.ClearBufferfv(GL_DEPTH, 0, &clear_one);
+            gl.Enable(GL_DEPTH_TEST);
+            gl.DepthFunc(GL_LESS);
+            draw_primitives(light_cam_, light, opt, true);
+        }
+        const float bg[4] = {opt.background[0], opt.background[1], opt.background[2], 1.0f};
+        const float one = 1.0f;
+        if (deferred) {
+            // Geometry buffer: normal + depth (background: depth 1), ray direction + covered, colour.
+            ensure_gbuffer();
+            gl.BindFramebuffer(GL_FRAMEBUFFER, gfbo_);
+            const float gn_clear[4] = {0.0f, 0.0f, 0.0f, 1.0f}, zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+            gl.ClearBufferfv(GL_COLOR, 0, gn_clear);
+            gl.ClearBufferfv(GL_COLOR, 1, zero);
+            gl.ClearBufferfv(GL_COLOR, 2, zero);
+        } else {
+            gl.BindFramebuffer(GL_FRAMEBUFFER, fbo_);
+            gl.ClearBufferfv(GL_COLOR, 0, bg);
+        }
+        gl.Viewport(0, 0, opt.width, opt.height);
+        gl.ClearBufferfv(GL_DEPTH, 0, &one);
+        gl.Enable(GL_DEPTH_TEST);
+        gl.DepthFunc(GL_LESS);
+        draw_primitives(cam, light, opt, deferred);
+        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, 0);
+        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, 0);
+        if (deferred) shade_deferred(cam, light, opt);
+        gl.UseProgram(0);
+        gl.BindVertexArray(0);
+        gl.Finish();
+        check_errors(gl, "QuadricRenderer::draw");
+    }
+
+    /// Draws every variant's primitives with the forward or geometry-buffer programs into the
+    /// bound framebuffer (VAO and buffers bound).
+    void draw_primitives(const render::Camera& cam, const render::Light& light, const render::RenderOptions& opt, bool deferred) {
+        const Api& gl = *api_;
         for (int v = 0; v < render::variant_count; ++v) {
             if (ranges_[v].second == 0) continue;
-            const Program& prog = program(static_cast<render::Variant>(v), opt.culling, cam.orthographic);
+            const Program& prog = program(static_cast<render::Variant>(v), opt.culling, cam.orthographic, deferred);
             gl.UseProgram(prog.id());
             set_uniforms(prog, cam, light, opt);
             gl.Uniform1ui(prog.uniform_location("qc_first"), ranges_[v].first);
+            gl.Uniform1i(prog.uniform_location("qc_caps"), static_cast<render::Variant>(v) == render::Variant::slab ? 1 : 0);
             gl.DrawElements(GL_TRIANGLES, static_cast<GLsizei>(6 * ranges_[v].second), GL_UNSIGNED_INT, nullptr);
         }
-        gl.UseProgram(0);
-        gl.BindVertexArray(0);
-        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, 0);
-        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, 0);
-        gl.Finish();
-        check_errors(gl, "QuadricRenderer::draw");
     }
 
     /// Reads back the last frame (rows top first, like the CPU renderer).
@@ -160,17 +195,106 @@ public:
     std::size_t primitive_count() const { return count_; }
 
 private:
-    const Program& program(render::Variant v, bool cull, bool ortho) {
+    const Program& program(render::Variant v, bool cull, bool ortho, bool gbuffer = false) {
         const std::string variant = std::string(render::variant_name(v)) + (cull ? "" : "_nocull");
         const std::string proj = ortho ? "ortho" : "perspective";
-        const std::string key = variant + "_" + proj;
+        const std::string vs = "qc_quadric_" + proj + ".vert", fs = (gbuffer ? "qc_gbuffer_" : "qc_quadric_") + variant + "_" + proj + ".frag";
+        return program(vs, fs);
+    }
+
+    /// The program of a generated vertex and fragment shader (compiled on first use).
+    const Program& program(const std::string& vs, const std::string& fs) {
+        const std::string key = vs + "+" + fs;
         auto it = programs_.find(key);
         if (it != programs_.end()) return *it->second;
-        const std::string vs = "qc_quadric_" + proj + ".vert", fs = "qc_quadric_" + variant + "_" + proj + ".frag";
         const std::string_view vsrc = generated::find(vs), fsrc = generated::find(fs);
         if (vsrc.empty() || fsrc.empty()) throw std::runtime_error("quadcast::gl::QuadricRenderer: no generated shader " + (vsrc.empty() ? vs : fs));
         auto prog = std::make_unique<Program>(make_program(*api_, key, {{GL_VERTEX_SHADER, vsrc}, {GL_FRAGMENT_SHADER, fsrc}}));
         return *programs_.emplace(key, std::move(prog)).first->second;
+    }
+
+    /// The deferred pass: one full-screen triangle into the colour target (depth test off; the
+    /// depth target keeps the quadric pass's depth) shading each pixel from the geometry buffer.
+    void shade_deferred(const render::Camera& cam, const render::Light& light, const render::RenderOptions& opt) {
+        const Api& gl = *api_;
+        const Program& prog = program("qc_fullscreen.vert", std::string("qc_deferred") + (opt.shadows ? "_shadows" : "") + (opt.silhouettes ? "_silhouettes" : "") + ".frag");
+        gl.BindFramebuffer(GL_FRAMEBUFFER, fbo_);
+        gl.Disable(GL_DEPTH_TEST);
+        gl.UseProgram(prog.id());
+        for (int i = 0; i < 3; ++i) gl.BindTextureUnit(static_cast<GLuint>(i), gtex_[i]);
+        const float pz[4] = {cam.projection[2][2], cam.projection[3][2], cam.projection[2][3], cam.projection[3][3]};
+        gl.Uniform3fv(prog.uniform_location("qc_light_dir"), 1, light.direction.c);
+        gl.Uniform3fv(prog.uniform_location("qc_light_color"), 1, light.color.c);
+        gl.Uniform4fv(prog.uniform_location("qc_material"), 1, opt.material.c);
+        gl.Uniform3fv(prog.uniform_location("qc_background"), 1, opt.background.c);
+        gl.Uniform4fv(prog.uniform_location("qc_pz"), 1, pz);
+        gl.Uniform4fv(prog.uniform_location("qc_silhouette_params"), 1, opt.silhouette.c);
+        if (opt.shadows) {
+            gl.BindTextureUnit(3, stex_);
+            const Mat4<float> m = render::camera_to_light(cam, light_cam_);
+            float to_light[16];
+            for (int j = 0; j < 4; ++j)
+                for (int i = 0; i < 4; ++i) to_light[j * 4 + i] = m[j][i];
+            gl.UniformMatrix4fv(prog.uniform_location("qc_to_light"), 1, GL_FALSE, to_light);
+            gl.Uniform2f(prog.uniform_location("qc_viewport"), static_cast<float>(opt.width), static_cast<float>(opt.height));
+            gl.Uniform1f(prog.uniform_location("qc_shadow_size"), static_cast<float>(shadow_size_));
+            gl.Uniform1f(prog.uniform_location("qc_shadow_bias"), opt.shadow_bias / static_cast<float>(shadow_size_));
+            gl.Uniform1i(prog.uniform_location("qc_pcf_step"), opt.pcf_step);
+        }
+        gl.DrawArrays(GL_TRIANGLES, 0, 3);
+        for (int i = 0; i < 4; ++i) gl.BindTextureUnit(static_cast<GLuint>(i), 0);
+    }
+
+    /// The shadow map (DEPTH32F, size x size, no colour), remade when the size changes.
+    void ensure_shadow_map(int size) {
+        if (sfbo_ != 0 && size == shadow_size_) return;
+        const Api& gl = *api_;
+        release_shadow_map();
+        shadow_size_ = size;
+        gl.GenTextures(1, &stex_);
+        gl.BindTexture(GL_TEXTURE_2D, stex_);
+        gl.TexStorage2D(GL_TEXTURE_2D, 1, GL_DEPTH_COMPONENT32F, size, size);
+        gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        gl.BindTexture(GL_TEXTURE_2D, 0);
+        gl.GenFramebuffers(1, &sfbo_);
+        gl.BindFramebuffer(GL_FRAMEBUFFER, sfbo_);
+        gl.FramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, stex_, 0);
+        gl.DrawBuffer(GL_NONE);
+        gl.ReadBuffer(GL_NONE);
+        const GLenum status = gl.CheckFramebufferStatus(GL_FRAMEBUFFER);
+        gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
+        if (status != GL_FRAMEBUFFER_COMPLETE) throw std::runtime_error("quadcast::gl::QuadricRenderer: incomplete shadow map");
+    }
+
+    void release_shadow_map() {
+        if (sfbo_ == 0) return;
+        api_->DeleteFramebuffers(1, &sfbo_);
+        api_->DeleteTextures(1, &stex_);
+        sfbo_ = 0;
+    }
+
+    /// The geometry buffer (three RGBA32F targets sharing the depth target), made on first use.
+    void ensure_gbuffer() {
+        if (gfbo_ != 0) return;
+        const Api& gl = *api_;
+        gl.GenTextures(3, gtex_);
+        for (GLuint t : gtex_) {
+            gl.BindTexture(GL_TEXTURE_2D, t);
+            gl.TexStorage2D(GL_TEXTURE_2D, 1, GL_RGBA32F, width_, height_);
+            gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+            gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        }
+        gl.BindTexture(GL_TEXTURE_2D, 0);
+        gl.GenFramebuffers(1, &gfbo_);
+        gl.BindFramebuffer(GL_FRAMEBUFFER, gfbo_);
+        for (int i = 0; i < 3; ++i) gl.FramebufferTexture2D(GL_FRAMEBUFFER, static_cast<GLenum>(GL_COLOR_ATTACHMENT0 + i), GL_TEXTURE_2D, gtex_[i], 0);
+        gl.FramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, tex_[1], 0);
+        const GLenum bufs[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
+        gl.DrawBuffers(3, bufs);
+        const GLenum status = gl.CheckFramebufferStatus(GL_FRAMEBUFFER);
+        gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
+        if (status != GL_FRAMEBUFFER_COMPLETE) throw std::runtime_error("quadcast::gl::QuadricRenderer: incomplete geometry buffer");
     }
 
     void set_uniforms(const Program& p, const render::Camera& cam, const render::Light& light, const render::RenderOptions& opt) const {
@@ -247,6 +371,11 @@ private:
     }
 
     void release_fbo() {
+        if (gfbo_ != 0) {
+            api_->DeleteFramebuffers(1, &gfbo_);
+            api_->DeleteTextures(3, gtex_);
+            gfbo_ = 0;
+        }
         if (fbo_ == 0) return;
         api_->DeleteFramebuffers(1, &fbo_);
         api_->DeleteTextures(2, tex_);
@@ -255,6 +384,11 @@ private:
 
     const Api* api_;
     GLuint vao_ = 0, ssbo_ = 0, planes_ = 0, indices_ = 0, fbo_ = 0, tex_[2] = {0, 0};
+    GLuint gfbo_ = 0, gtex_[3] = {0, 0, 0};  ///< geometry buffer of deferred shading
+    GLuint sfbo_ = 0, stex_ = 0;             ///< shadow map
+    int shadow_size_ = 0;
+    render::Camera light_cam_;
+    std::vector<render::Primitive> prims_;   ///< for fitting the light camera
     int width_ = 0, height_ = 0;
     std::size_t count_ = 0;
     std::pair<std::uint32_t, std::uint32_t> ranges_[render::variant_count] = {};

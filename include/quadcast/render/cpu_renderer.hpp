@@ -17,8 +17,8 @@
 //   (true for every primitive the scene builder makes).
 // - Depth is kept in float (a GL depth buffer may be 24-bit); the depth test is GL_LESS against
 //   a cleared depth of 1, first primitive (lowest index) wins ties.
-// - Per-quadric culling is `cull_primitive`, the rule the GL vertex stage uses (a slab
-//   primitive is culled only when the eye lies between its cap planes).
+// - Per-quadric culling is `cull_primitive` (`cull_primitive_with_caps` for the capped slab
+//   variant), the rule the GL vertex stage uses.
 
 #include <algorithm>
 #include <atomic>
@@ -33,6 +33,7 @@
 #include "quadcast/linalg.hpp"
 #include "quadcast/raycast.hpp"
 #include "quadcast/render/types.hpp"
+#include "quadcast/shading.hpp"
 
 namespace quadcast::render {
 
@@ -173,6 +174,57 @@ inline FrameSetup frame_setup(const Camera& camera, int width, int height) {
     return f;
 }
 
+/// An orthographic camera looking along light.direction that sees every primitive's bounding
+/// sphere: the sphere around their bounding box (centre c, radius R) seen from c - 2 R dir, a
+/// 2R x 2R window, near R, far 3R. A scene without primitives gets the unit sphere.
+inline Camera light_camera(const std::vector<Primitive>& prims, const Light& light) {
+    Vec3<double> lo{{1e300, 1e300, 1e300}}, hi{{-1e300, -1e300, -1e300}};
+    for (const Primitive& p : prims) {
+        const double r = static_cast<double>(p.shape.radius);
+        if (!std::isfinite(r)) continue;
+        for (int i = 0; i < 3; ++i) {
+            lo[i] = std::min(lo[i], static_cast<double>(p.shape.center[i]) - r);
+            hi[i] = std::max(hi[i], static_cast<double>(p.shape.center[i]) + r);
+        }
+    }
+    Vec3<double> c{{0.0, 0.0, 0.0}};
+    double R = 1.0;
+    if (lo[0] <= hi[0]) {
+        c = 0.5 * (lo + hi);
+        R = std::max(1e-6, 0.5 * length(hi - lo));
+    }
+    Vec3<double> d = cast<double>(light.direction);
+    d = length(d) > 0 ? normalize(d) : Vec3<double>{{0.0, 0.0, -1.0}};
+    const Vec3<double> eye = c - (2.0 * R) * d;
+    const Vec3<double> up0 = std::fabs(d[1]) < 0.9 ? Vec3<double>{{0.0, 1.0, 0.0}} : Vec3<double>{{1.0, 0.0, 0.0}};
+    const Vec3<double> s = normalize(cross(d, up0)), u = cross(s, d);
+    Mat4<double> view = identity<double, 4>();
+    for (int j = 0; j < 3; ++j) { view[j][0] = s[j]; view[j][1] = u[j]; view[j][2] = -d[j]; }
+    view[3][0] = -dot(s, eye);
+    view[3][1] = -dot(u, eye);
+    view[3][2] = dot(d, eye);
+    const double n = R, f = 3.0 * R;
+    Mat4<double> proj = identity<double, 4>();
+    proj[0][0] = 1.0 / R;
+    proj[1][1] = 1.0 / R;
+    proj[2][2] = -2.0 / (f - n);
+    proj[3][2] = -(f + n) / (f - n);
+    Camera cam;
+    cam.view = cast<float>(view);
+    cam.projection = cast<float>(proj);
+    cam.eye = cast<float>(eye);
+    cam.orthographic = true;
+    return cam;
+}
+
+/// M = P_light V_light (P_camera V_camera)^-1: the camera's NDC (homogeneous) to the light's clip
+/// space (`shadow_coord`), in double, rounded to float.
+inline Mat4<float> camera_to_light(const Camera& cam, const Camera& lc) {
+    const Mat4<double> c = cast<double>(cam.projection) * cast<double>(cam.view);
+    const Mat4<double> l = cast<double>(lc.projection) * cast<double>(lc.view);
+    return cast<float>(l * cpu_detail::inverse4(c));
+}
+
 /// The ray of the pixel whose centre is (x + 0.5, y + 0.5) in WINDOW coordinates (y = 0 is the
 /// bottom row), as the GPU's vertex stage builds it (PrimitiveVertexKernel): the view-space
 /// point p on the near plane through the pixel centre (NDC (x, y, -1) unprojected by P^-1, in
@@ -207,7 +259,7 @@ inline Fragment cast_fragment(const Primitive& p, const PixelRay& ray, const Fra
 inline bool culled(const Primitive& p, const FrameSetup& f) {
     if (f.orthographic) return false;
     const LocalRay<float> r = local_ray(p.shape, f.eye, vec3(0.0f, 0.0f, -1.0f));
-    return cull_primitive(p.shape, r.o);
+    return p.variant == Variant::slab ? cull_primitive_with_caps(p.shape, r.o) : cull_primitive(p.shape, r.o);
 }
 
 /// The RGBA8 of a fragment: `shade_blinn_phong(n, -light.direction, -dir, color, light.color,
@@ -281,6 +333,33 @@ inline PixelRect screen_rect(const QuadricPrimitive<float>& p, const FrameSetup&
 
 namespace cpu_detail {
 
+/// A shadow map (window depth from `light_camera`, rows top first) and what a lookup needs.
+struct ShadowLookup {
+    std::vector<float> map;
+    int size = 0, step = 2;
+    float bias = 0.0f;
+    Mat4<float> to_light;
+    Vec2<float> viewport;
+};
+
+/// Soft-shadow visibility of the surface at window position (fx, fy) and depth d, as the GL
+/// deferred pass computes it: `shadow_coord`, the 64 texels around floor(texel) at `pcf_offset`
+/// (clamped to the map), `pcf_soft_shadow` (= `pcf_first8`, then `pcf_lit_fraction<64>` if undecided).
+inline float shadow_visibility(const ShadowLookup& sh, float fx, float fy, float d) {
+    const ShadowCoord<float> c = shadow_coord(vec2(fx, fy), d, sh.viewport, sh.to_light, static_cast<float>(sh.size));
+    // (clamped before the int conversion: a NaN or huge coordinate stays defined)
+    const int bx = static_cast<int>(std::clamp(std::floor(c.texel[0]), -1e6f, 1e6f));
+    const int by = static_cast<int>(std::clamp(std::floor(c.texel[1]), -1e6f, 1e6f));
+    float smp[64];
+    for (int k = 0; k < 64; ++k) {
+        int dx = 0, dy = 0;
+        pcf_offset(k, sh.step, dx, dy);
+        const int x = std::clamp(bx + dx, 0, sh.size - 1), y = std::clamp(by + dy, 0, sh.size - 1);
+        smp[k] = sh.map[std::size_t(sh.size - 1 - y) * sh.size + x];
+    }
+    return pcf_soft_shadow(c.z, sh.bias, smp);
+}
+
 inline constexpr int tile_size = 16;
 
 /// Per-thread state of the tile loop.
@@ -343,6 +422,10 @@ void parallel_for(int n, int threads, Fn&& fn) {
 /// Primitives are binned into 16x16 tiles by `screen_rect`; `threads` threads (0: the
 /// hardware concurrency) take tiles. Rows of the result are top first (row 0 = window y =
 /// height - 1). Throws std::invalid_argument for a bad image size or camera.
+/// options.silhouettes: the colours stay float and a post-pass blends the outline of
+/// `silhouette_weight` over the 3x3 neighbourhood of depths and normals (clamped at the border;
+/// background pixels have depth 1 and normal 0), as the GL deferred pass does; options.deferred
+/// changes nothing here (every pixel is shaded once anyway).
 /// FrameStats: primitives = input count, culled = per-quadric culled, fragments = cast() calls,
 /// hits = casts with a hit in the depth range (before the depth test).
 inline Image render_cpu(const std::vector<Primitive>& prims, const Camera& camera, const Light& light,
@@ -390,6 +473,25 @@ inline Image render_cpu(const std::vector<Primitive>& prims, const Camera& camer
     img.rgba.assign(std::size_t(f.width) * f.height * 4, 0);
     img.depth.assign(std::size_t(f.width) * f.height, 1.0f);
     std::uint8_t bg[4] = {to_unorm8(options.background[0]), to_unorm8(options.background[1]), to_unorm8(options.background[2]), 255};
+    // Shadow map: the same renderer from the light camera (depth only is used)
+    ShadowLookup shadow;
+    if (options.shadows) {
+        const Camera lc = light_camera(prims, light);
+        RenderOptions lo;
+        lo.width = lo.height = options.shadow_map_size;
+        lo.culling = options.culling;
+        shadow.map = render_cpu(prims, lc, light, lo, nullptr, threads).depth;
+        shadow.size = options.shadow_map_size;
+        shadow.step = options.pcf_step;
+        shadow.bias = options.shadow_bias / static_cast<float>(options.shadow_map_size);
+        shadow.to_light = camera_to_light(camera, lc);
+        shadow.viewport = vec2(static_cast<float>(f.width), static_cast<float>(f.height));
+    }
+    std::vector<Vec3<float>> normals, shaded;  // per pixel, only for the outline pass
+    if (options.silhouettes) {
+        normals.resize(img.depth.size());
+        shaded.resize(img.depth.size());
+    }
     const int n_threads = std::max(1, std::min(threads, n_tiles));
     std::vector<TileScratch> scratch(n_threads);
     parallel_for(n_tiles, n_threads, [&](int t, int thread) {
@@ -419,10 +521,53 @@ inline Image render_cpu(const std::vector<Primitive>& prims, const Camera& camer
                 const std::size_t o = std::size_t(f.height - 1 - y) * f.width + x;
                 std::uint8_t* px = &img.rgba[o * 4];
                 img.depth[o] = s.depth[k];
+                if (options.silhouettes || options.shadows) {
+                    Vec3<float> c = options.background;
+                    if (s.prim[k] >= 0) {
+                        const Primitive& p = prims[s.prim[k]];
+                        if (options.shadows) {
+                            const float vis = shadow_visibility(shadow, float(x) + 0.5f, float(y) + 0.5f, s.depth[k]);
+                            c = shade_blinn_phong_shadowed(s.normal[k], -light.direction, -s.ray[k].dir, p.color, light.color, options.material, vis);
+                        } else {
+                            c = shade_blinn_phong(s.normal[k], -light.direction, -s.ray[k].dir, p.color, light.color, options.material);
+                        }
+                    }
+                    if (options.silhouettes) {
+                        // Keep the geometry buffer's normal and the float colour for the outline pass.
+                        normals[o] = s.prim[k] < 0 ? vec3(0.0f, 0.0f, 0.0f) : s.normal[k];
+                        shaded[o] = c;
+                    } else {
+                        for (int i = 0; i < 3; ++i) px[i] = to_unorm8(c[i]);
+                        px[3] = 255;
+                    }
+                    continue;
+                }
                 if (s.prim[k] < 0) std::copy(bg, bg + 4, px);
                 else shade_pixel(prims[s.prim[k]], s.normal[k], s.ray[k].dir, light, options, px);
             }
     });
+
+    // Silhouette and crease outlines from the 3x3 neighbourhoods (clamped at the image border),
+    // as the GL deferred pass does
+    if (options.silhouettes) {
+        parallel_for(f.height, threads, [&](int yi, int) {
+            for (int xi = 0; xi < f.width; ++xi) {
+                float d[9];
+                Vec3<float> nb[9];
+                for (int r = 0; r < 3; ++r)
+                    for (int c = 0; c < 3; ++c) {
+                        const int yy = std::clamp(yi + r - 1, 0, f.height - 1), xx = std::clamp(xi + c - 1, 0, f.width - 1);
+                        const std::size_t q = std::size_t(yy) * f.width + xx;
+                        d[3 * r + c] = img.depth[q];
+                        nb[3 * r + c] = normals[q];
+                    }
+                const std::size_t o = std::size_t(yi) * f.width + xi;
+                const Vec3<float> c = apply_outline(shaded[o], silhouette_weight(d, nb, f.pz, options.silhouette), options.silhouette[2]);
+                for (int i = 0; i < 3; ++i) img.rgba[o * 4 + i] = to_unorm8(c[i]);
+                img.rgba[o * 4 + 3] = 255;
+            }
+        });
+    }
 
     if (stats) {
         *stats = FrameStats{};

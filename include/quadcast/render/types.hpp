@@ -29,8 +29,8 @@ constexpr const char* variant_name(Variant v) {
     return v == Variant::closed ? "closed" : v == Variant::slab ? "slab" : v == Variant::bounded ? "bounded" : "planes";
 }
 
-/// One primitive to draw, in float as the GPU stores it. Non-slab primitives have
-/// shape.half_length = +Inf (see `cull_primitive`).
+/// One primitive to draw, in float as the GPU stores it. Closed and bounded primitives have
+/// shape.half_length = +Inf.
 struct Primitive {
     QuadricPrimitive<float> shape;
     Variant variant;
@@ -57,6 +57,21 @@ struct RenderOptions {
     bool culling = true;                                  ///< per-fragment front-root selection + per-quadric culling
     Vec3<float> background{{1.0f, 1.0f, 1.0f}};
     Vec4<float> material{{0.15f, 0.85f, 0.35f, 48.0f}};   ///< ambient, diffuse, specular, shininess
+    /// Deferred shading (Sigg et al. 2006, sec. 4): the quadric pass writes a geometry buffer
+    /// (normal, depth, ray direction, colour) and a full-screen pass shades each pixel once. Same
+    /// image as forward shading. The GL renderer uses it whenever `silhouettes` is set too; the
+    /// CPU reference shades once per pixel either way.
+    bool deferred = false;
+    /// Silhouette and crease outlines (`silhouette_weight`, `apply_outline` in quadcast/shading.hpp).
+    bool silhouettes = false;
+    Vec4<float> silhouette{{0.03f, 3.0f, 0.7f, 0.0f}};  ///< depth threshold, normal threshold, strength, unused
+    /// Soft shadows (Sigg et al. 2006, sec. 4): a shadow map from an orthographic light camera
+    /// fitted to the primitives' bounding spheres (`light_camera` in quadcast/render/cpu_renderer.hpp),
+    /// filtered with 64-sample PCF after an 8-sample penumbra test (`pcf_first8`, `pcf_lit_fraction`).
+    bool shadows = false;
+    int shadow_map_size = 2048;   ///< texels per side
+    int pcf_step = 2;             ///< texels between PCF samples (footprint (7 step) x (7 step))
+    float shadow_bias = 10.0f;    ///< depth bias in shadow-map texels (light window depth shadow_bias / shadow_map_size)
 };
 
 /// A rendered frame: RGBA8 (top row first) and window depth (1 = background), same layout.

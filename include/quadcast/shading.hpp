@@ -1,0 +1,153 @@
+// quadcast/shading.hpp -- screen-space effects of the deferred pass: silhouette and crease outlines
+#pragma once
+
+#include "quadcast/linalg.hpp"
+#include "quadcast/raycast.hpp"
+#include "quadcast/scalar.hpp"
+
+namespace quadcast {
+
+/// View-space z of a window depth d (glDepthRange 0..1) for a projection with depth terms
+/// pz = (P22, P32, P23, P33) (as `window_depth`): the inverse of z_ndc = (P22 z + P32) / (P23 z + P33).
+/// Numerics: ndc = 2 d - 1; z = (P32 - P33 ndc) / (P23 ndc - P22). The denominator is nonzero for
+/// d in [0, 1] with 0 < near < far (perspective and orthographic).
+template <class T>
+T view_z_from_depth(const T& d, const Vec4<T>& pz) {
+    const T ndc = T(2) * d - T(1);
+    return (pz[1] - pz[3] * ndc) / (pz[2] * ndc - pz[0]);
+}
+
+/// Silhouette and crease strength at the centre of a 3x3 pixel neighbourhood of the geometry
+/// buffer (Sigg et al. 2006, sec. 4, "Silhouette and Crease Lines": a Sobel edge detector on
+/// depth and on surface normals). depth[3 r + c] are window depths (1 = background), normal[...]
+/// the unnormalised normals (zero for background), row r = 0 at the top, column c = 0 at the left.
+/// params = (depth threshold, normal threshold, strength, unused).
+/// - Silhouettes: the Sobel gradient of the linearised (view-space) depth, relative to the centre
+///   pixel's |z|, so the threshold does not depend on the distance: s_d = |grad z| / |z_centre|.
+/// - Creases: the Sobel gradient of the unit normals (per component), s_n = sqrt(|gx|^2 + |gy|^2).
+/// Returns w = clamp(max(s_d / t_d, s_n / t_n) - 1, 0, 1): zero below the thresholds, saturated at
+/// twice a threshold.
+/// Numerics: Sobel sums as (a + 2 b) + c per column/row, differences of those; unit normals as
+/// n / sqrt(n.n) (zero when n.n = 0); magnitudes as sqrt of left-folded sums of squares.
+template <class T>
+T silhouette_weight(const T (&depth)[9], const Vec3<T> (&normal)[9], const Vec4<T>& pz, const Vec4<T>& params) {
+    T z[9];
+    Vec3<T> n[9];
+    for (int i = 0; i < 9; ++i) {
+        z[i] = view_z_from_depth(depth[i], pz);
+        const T l2 = dot(normal[i], normal[i]);
+        const mask_t<T> ok = l2 > T(0);
+        n[i] = select(ok, normal[i] / sqrt(select(ok, l2, T(1))), vec3(T(0), T(0), T(0)));
+    }
+    // Sobel: gx = right column - left column, gy = top row - bottom row, weights (1, 2, 1).
+    auto sobel_x = [](const auto* a) { return ((a[2] + T(2) * a[5]) + a[8]) - ((a[0] + T(2) * a[3]) + a[6]); };
+    auto sobel_y = [](const auto* a) { return ((a[0] + T(2) * a[1]) + a[2]) - ((a[6] + T(2) * a[7]) + a[8]); };
+    const T zx = sobel_x(z), zy = sobel_y(z);
+    const T zc = abs(z[4]);
+    const T s_d = sqrt(zx * zx + zy * zy) / select(zc > T(0), zc, T(1));
+    const Vec3<T> nx = sobel_x(n), ny = sobel_y(n);
+    const T s_n = sqrt(dot(nx, nx) + dot(ny, ny));
+    return clamp(max(s_d / params[0], s_n / params[1]) - T(1), T(0), T(1));
+}
+
+/// Blends the outline colour black over a shaded colour: rgb (1 - strength w) (Sigg et al. 2006,
+/// sec. 4: "the gradient length ... is used to blend the outline color with the Phong lighting").
+/// Numerics: k = 1 - strength * w, then rgb * k per component.
+template <class T>
+Vec3<T> apply_outline(const Vec3<T>& rgb, const T& w, const T& strength) {
+    const T k = T(1) - strength * w;
+    return rgb * k;
+}
+
+
+/// Percentage-closer filtering (Reeves, Salesin and Cook 1987, as used by Sigg et al. 2006, sec. 4,
+/// "Soft Shadows"): the fraction of N shadow-map depths s[i] that do not occlude a receiver at
+/// light-space window depth z, i.e. with z - bias <= s[i].
+/// Numerics: zb = z - bias; the count is a left-folded sum of 0/1 (exact); lit = count / N
+/// (exact for N a power of two).
+template <int N, class T>
+T pcf_lit_fraction(const T& z, const T& bias, const T (&s)[N]) {
+    const T zb = z - bias;
+    T count = T(0);
+    for (int i = 0; i < N; ++i) count = count + select(zb <= s[i], T(1), T(0));
+    return count / T(N);
+}
+
+/// The first 8 of the 64 PCF samples (Sigg et al. 2006, sec. 4: "the first 8 samples are used to
+/// adaptively determine whether the full 64 samples are required"): their lit fraction, and
+/// `decided` when they agree (all lit or all shadowed), in which case the 64-sample filter is skipped.
+template <class T>
+struct PcfFirst {
+    T lit;
+    mask_t<T> decided;
+};
+
+/// Numerics: `pcf_lit_fraction<8>`; decided = lit == 0 || lit == 1 (exact).
+template <class T>
+PcfFirst<T> pcf_first8(const T& z, const T& bias, const T (&s)[8]) {
+    const T lit = pcf_lit_fraction<8>(z, bias, s);
+    return {lit, lit == T(0) || lit == T(1)};
+}
+
+/// Soft-shadow visibility with the early-out: the 8-sample fraction where the first 8 samples agree,
+/// else the 64-sample fraction (s[0..7] are the first 8). A renderer may skip fetching s[8..63] when
+/// `pcf_first8` is decided; the result is the same.
+template <class T>
+T pcf_soft_shadow(const T& z, const T& bias, const T (&s)[64]) {
+    T first[8];
+    for (int i = 0; i < 8; ++i) first[i] = s[i];
+    const PcfFirst<T> f = pcf_first8(z, bias, first);
+    return select(f.decided, f.lit, pcf_lit_fraction<64>(z, bias, s));
+}
+
+/// Texel offsets of the 64 PCF samples: an 8x8 grid of offsets -7, -5, ..., 7 (in half texels of
+/// the grid step), ordered so that the first 8 spread over the whole footprint (corners, then edge
+/// midpoints). Host/plumbing data (plain ints), not traced.
+inline constexpr int pcf_grid_order[64] = {
+    0, 7, 56, 63, 3, 24, 39, 60,   // first 8: corners and edge samples
+    1, 2, 4, 5, 6, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20, 21, 22, 23, 25, 26, 27, 28,
+    29, 30, 31, 32, 33, 34, 35, 36, 37, 38, 40, 41, 42, 43, 44, 45, 46, 47, 48, 49, 50, 51, 52, 53,
+    54, 55, 57, 58, 59, 61, 62};
+
+/// Texel offset (x, y) of PCF sample k (0..63) for a grid step of `step` texels: grid cell
+/// g = pcf_grid_order[k] at (g % 8, g / 8) times step, minus (7 step) / 2 (integer division), so
+/// a step of 2 gives -7, -5, ..., 7. Host/plumbing (plain ints).
+inline void pcf_offset(int k, int step, int& dx, int& dy) {
+    const int g = pcf_grid_order[k];
+    dx = (g % 8) * step - (7 * step) / 2;
+    dy = (g / 8) * step - (7 * step) / 2;
+}
+
+
+/// Where a pixel's surface point falls in the shadow map: the camera's window position
+/// (frag = pixel centre, window depth d, viewport size) is taken to the camera's NDC, mapped by
+/// M = P_light V_light (P_camera V_camera)^-1 to the light's clip space and to the light's window
+/// (texel coordinates in [0, size] and window depth in [0, 1]).
+/// Numerics: ndc = (2 frag / viewport - 1, 2 d - 1, 1); h = M ndc (left folds); texel =
+/// ((h.xy / h.w) * 0.5 + 0.5) * size; z = (h.z / h.w) * 0.5 + 0.5.
+template <class T>
+struct ShadowCoord {
+    Vec2<T> texel;
+    T z;
+};
+
+template <class T>
+ShadowCoord<T> shadow_coord(const Vec2<T>& frag, const T& d, const Vec2<T>& viewport, const Mat4<T>& m, const T& size) {
+    const Vec4<T> ndc = vec4(T(2) * frag[0] / viewport[0] - T(1), T(2) * frag[1] / viewport[1] - T(1), T(2) * d - T(1), T(1));
+    const Vec4<T> h = m * ndc;
+    const T tx = (h[0] / h[3] * T(0.5) + T(0.5)) * size;
+    const T ty = (h[1] / h[3] * T(0.5) + T(0.5)) * size;
+    return {vec2(tx, ty), h[2] / h[3] * T(0.5) + T(0.5)};
+}
+
+/// Blinn-Phong (`shade_blinn_phong`) with the light attenuated by a shadow visibility vis in
+/// [0, 1]: diffuse and specular scale by vis, ambient does not. vis = 1 gives exactly
+/// `shade_blinn_phong`.
+/// Numerics: material' = (ambient, diffuse * vis, specular * vis, shininess), then `shade_blinn_phong`.
+template <class T>
+Vec3<T> shade_blinn_phong_shadowed(const Vec3<T>& n, const Vec3<T>& l, const Vec3<T>& e, const Vec3<T>& color, const Vec3<T>& light,
+                                   const Vec4<T>& material, const T& vis) {
+    return shade_blinn_phong(n, l, e, color, light, vec4(material[0], material[1] * vis, material[2] * vis, material[3]));
+}
+
+}  // namespace quadcast

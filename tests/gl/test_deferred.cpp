@@ -1,0 +1,194 @@
+// tests/gl/test_deferred.cpp -- deferred shading (geometry buffer + full-screen pass) and silhouette outlines
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <random>
+
+#include "quadcast/gl/osmesa_context.hpp"
+#include "quadcast/gl/quadric_renderer.hpp"
+#include "quadcast/render/cpu_renderer.hpp"
+#include "render/render_testing.hpp"
+
+using namespace quadcast;
+using namespace quadcast::render;
+
+namespace {
+
+/// Overlapping spheres, capped cylinders and sphere-bounded hyperboloids in random colours.
+std::vector<render::Primitive> deferred_scene(unsigned seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> u(-2.0f, 2.0f), s(0.15f, 0.5f), c(0.1f, 1.0f);
+    std::vector<render::Primitive> out;
+    for (int i = 0; i < 50; ++i) out.push_back(qc_render_test::sphere(vec3(u(rng), u(rng), u(rng)), s(rng), vec3(c(rng), c(rng), c(rng))));
+    for (int i = 0; i < 25; ++i) {
+        const Vec3<double> a = qc_render_test::random_dir(rng);
+        out.push_back(qc_render_test::cylinder(vec3(u(rng), u(rng), u(rng)), cast<float>(a), s(rng) * 0.5f, s(rng), vec3(c(rng), c(rng), c(rng))));
+    }
+    for (int i = 0; i < 8; ++i) {
+        Quadric<float> h = quadric_from_abc(identity<float, 3>(), vec3(0.0f, 0.0f, 0.0f), -0.04f);
+        h.q[1][1] = -1.0f;
+        out.push_back(qc_render_test::bounded(vec3(u(rng), u(rng), u(rng)), h, s(rng)));
+    }
+    return out;
+}
+
+Camera test_camera(bool ortho) {
+    return ortho ? qc_render_test::look_at(vec3(0.5, 1.0, 8.0), vec3(0.0, 0.0, 0.0), vec3(0.0, 1.0, 0.0), qc_render_test::orthographic(-4, 4, -3, 3, 1, 20), true)
+                 : qc_render_test::look_at(vec3(0.5, 1.0, 8.0), vec3(0.0, 0.0, 0.0), vec3(0.0, 1.0, 0.0), qc_render_test::perspective(50, 240.0 / 180.0, 1, 20));
+}
+
+/// Largest per-channel difference of two RGBA8 images and the number of pixels that differ.
+struct ColorDiff {
+    int max = 0;
+    long pixels = 0;
+};
+ColorDiff color_diff(const Image& a, const Image& b) {
+    ColorDiff d;
+    for (std::size_t i = 0; i < a.depth.size(); ++i) {
+        int m = 0;
+        for (int c = 0; c < 4; ++c) m = std::max(m, std::abs(int(a.rgba[i * 4 + c]) - int(b.rgba[i * 4 + c])));
+        d.max = std::max(d.max, m);
+        d.pixels += m > 0;
+    }
+    return d;
+}
+
+}  // namespace
+
+TEST_CASE("deferred shading draws the image forward shading draws") {
+    gl::OsmesaContext ctx;
+    gl::QuadricRenderer r(ctx.api());
+    const std::vector<render::Primitive> prims = deferred_scene(11);
+    r.set_primitives(prims);
+    Light light;
+    light.direction = vec3(-0.4f, -0.6f, -1.0f);
+    for (bool ortho : {false, true})
+        for (bool cull : {true, false}) {
+            RenderOptions o;
+            o.width = 240;
+            o.height = 180;
+            o.culling = cull;
+            o.background = vec3(0.2f, 0.3f, 0.4f);
+            const Camera cam = test_camera(ortho);
+            r.draw(cam, light, o);
+            const Image fwd = r.read();
+            o.deferred = true;
+            r.draw(cam, light, o);
+            const Image def = r.read();
+            long covered = 0, depth_diff = 0;
+            for (std::size_t i = 0; i < fwd.depth.size(); ++i) {
+                covered += fwd.depth[i] < 1.0f;
+                depth_diff += fwd.depth[i] != def.depth[i];
+            }
+            const ColorDiff d = color_diff(fwd, def);
+            std::printf("[deferred] %s, culling %s: %ld covered px, %ld px differ (max %d LSB), %ld depth differences\n",
+                        ortho ? "orthographic" : "perspective", cull ? "on" : "off", covered, d.pixels, d.max, depth_diff);
+            CHECK(covered > 5000);
+            CHECK(d.max <= 1);
+            CHECK(depth_diff == 0);
+        }
+}
+
+TEST_CASE("silhouette outlines darken edges only, and the GL and CPU renderers agree on them") {
+    gl::OsmesaContext ctx;
+    gl::QuadricRenderer r(ctx.api());
+    const std::vector<render::Primitive> prims = deferred_scene(12);
+    r.set_primitives(prims);
+    Light light;
+    light.direction = vec3(-0.4f, -0.6f, -1.0f);
+    for (bool ortho : {false, true}) {
+        RenderOptions o;
+        o.width = 480;  // twice the other tests' resolution: outlines are a few pixels wide at any size
+        o.height = 360;
+        const Camera cam = test_camera(ortho);
+        r.draw(cam, light, o);
+        const Image plain = r.read();
+        o.silhouettes = true;
+        r.draw(cam, light, o);
+        const Image gl_sil = r.read();
+        const Image cpu_sil = render_cpu(prims, cam, light, o);
+        // Outlines only darken, and only near depth or normal discontinuities: a pixel whose 3x3
+        // neighbourhood is all background keeps its colour.
+        long darker = 0, brighter = 0, changed_in_background = 0;
+        const int w = o.width, h = o.height;
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                const std::size_t i = std::size_t(y) * w + x;
+                bool all_bg = true;
+                for (int dy = -1; dy <= 1; ++dy)
+                    for (int dx = -1; dx <= 1; ++dx) {
+                        const int yy = std::clamp(y + dy, 0, h - 1), xx = std::clamp(x + dx, 0, w - 1);
+                        all_bg = all_bg && plain.depth[std::size_t(yy) * w + xx] >= 1.0f;
+                    }
+                bool is_darker = false, is_brighter = false, changed = false;
+                for (int c = 0; c < 3; ++c) {
+                    const int a = plain.rgba[i * 4 + c], b = gl_sil.rgba[i * 4 + c];
+                    is_darker = is_darker || b < a - 1;
+                    is_brighter = is_brighter || b > a + 1;
+                    changed = changed || a != b;
+                }
+                darker += is_darker;
+                brighter += is_brighter;
+                changed_in_background += all_bg && changed;
+            }
+        // GL vs CPU: the rays differ by rounding (see test_render_gl_vs_cpu), so a few edge pixels may differ.
+        long differ = 0, covered = 0;
+        for (std::size_t i = 0; i < gl_sil.depth.size(); ++i) {
+            covered += gl_sil.depth[i] < 1.0f;
+            for (int c = 0; c < 3; ++c)
+                if (std::abs(int(gl_sil.rgba[i * 4 + c]) - int(cpu_sil.rgba[i * 4 + c])) > 1) { ++differ; break; }
+        }
+        std::printf("[silhouettes] %s: %ld covered px, %ld darkened, %ld brightened, %ld changed away from surfaces, %ld px GL vs CPU > 1 LSB\n",
+                    ortho ? "orthographic" : "perspective", covered, darker, brighter, changed_in_background, differ);
+        CHECK(darker > covered / 50);
+        CHECK(darker < covered * 3 / 4);
+        CHECK(brighter == 0);
+        CHECK(changed_in_background == 0);
+        CHECK(differ <= covered / 50);
+    }
+}
+
+TEST_CASE("soft shadows only darken, and the GL and CPU renderers agree on them") {
+    gl::OsmesaContext ctx;
+    gl::QuadricRenderer r(ctx.api());
+    const std::vector<render::Primitive> prims = deferred_scene(13);
+    r.set_primitives(prims);
+    Light light;
+    light.direction = vec3(-0.4f, -0.6f, -1.0f);
+    for (bool ortho : {false, true}) {
+        RenderOptions o;
+        o.width = 240;
+        o.height = 180;
+        o.shadow_map_size = 512;
+        const Camera cam = test_camera(ortho);
+        r.draw(cam, light, o);
+        const Image lit = r.read();
+        o.shadows = true;
+        r.draw(cam, light, o);
+        const Image gl_sh = r.read();
+        const Image cpu_sh = render_cpu(prims, cam, light, o);
+        long covered = 0, darker = 0, brighter = 0, differ = 0, depth_diff = 0;
+        for (std::size_t i = 0; i < lit.depth.size(); ++i) {
+            covered += lit.depth[i] < 1.0f;
+            depth_diff += lit.depth[i] != gl_sh.depth[i];
+            bool d = false, b = false, x = false;
+            for (int c = 0; c < 3; ++c) {
+                const int a = lit.rgba[i * 4 + c], g = gl_sh.rgba[i * 4 + c], p = cpu_sh.rgba[i * 4 + c];
+                d = d || g < a - 1;
+                b = b || g > a + 1;
+                x = x || std::abs(g - p) > 1;
+            }
+            darker += d;
+            brighter += b;
+            differ += x;
+        }
+        std::printf("[shadows] %s: %ld covered px, %ld in (partial) shadow, %ld brightened, %ld px GL vs CPU > 1 LSB\n",
+                    ortho ? "orthographic" : "perspective", covered, darker, brighter, differ);
+        CHECK(depth_diff == 0);
+        CHECK(darker > covered / 20);
+        CHECK(darker < covered * 3 / 4);
+        CHECK(brighter == 0);
+        CHECK(differ <= covered / 50);
+    }
+}
