@@ -311,4 +311,74 @@ struct ShadeShadowedKernel {
     }
 };
 
+/// Brute-force fragment stage (benchmark baseline for incremental ray casting): the pixel's world
+/// ray from its window position (`pixel_ray`).
+struct PixelRayKernel {
+    static constexpr const char* name = "pixel_ray";
+    static constexpr const char* source = "quadcast::pixel_ray (quadcast/raycast.hpp)";
+    static constexpr const char* summary = "brute-force ray casting: a pixel's world ray via the inverse view-projection";
+    template <class IO> static void run(IO& io) {
+        using T = typename IO::T;
+        const Mat4<T> m = io.template mat<4>("inv_view_proj");
+        const Vec3<T> eye = io.template vec<3>("eye");
+        const Vec2<T> frag = io.template vec<2>("frag");
+        const Vec2<T> viewport = io.template vec<2>("viewport");
+        const WorldRay<T> r = pixel_ray(m, eye, frag, viewport);
+        io.out("origin", r.origin);
+        io.out("dir", r.dir);
+    }
+    static void generate(std::mt19937& rng, std::span<float> in) {
+        std::size_t p = 0;
+        Mat4<float> m{};
+        for (int j = 0; j < 4; ++j) m[j] = vec4(random_point(rng, 2.0f), uniform(rng, -0.5f, 0.5f));
+        m[3][3] = uniform(rng, 1.0f, 2.0f);
+        put(in, p, m);
+        put(in, p, random_point(rng, 10.0f));
+        put(in, p, vec2(std::floor(uniform(rng, 0.0f, 1024.0f)) + 0.5f, std::floor(uniform(rng, 0.0f, 768.0f)) + 0.5f));
+        put(in, p, vec2(1024.0f, 768.0f));
+    }
+};
+
+/// Name of a brute-force fragment-stage variant: fragment_<...>_brute.
+constexpr const char* fragment_brute_kernel_name(CastOptions o) {
+    if (o.planes) return o.cull ? "fragment_planes_brute" : "fragment_planes_nocull_brute";
+    if (o.slab) return o.cull ? "fragment_slab_brute" : "fragment_slab_nocull_brute";
+    if (o.bound) return o.cull ? "fragment_bounded_brute" : "fragment_bounded_nocull_brute";
+    return o.cull ? "fragment_closed_brute" : "fragment_closed_nocull_brute";
+}
+
+/// Per fragment, brute force: the local ray of the pixel's world ray (`local_ray`), then the same
+/// cast, depth and normal as `FragmentCastKernel`.
+template <CastOptions Opt>
+struct FragmentBruteKernel {
+    static constexpr const char* name = fragment_brute_kernel_name(Opt);
+    static constexpr const char* source = "quadcast::local_ray, quadcast::cast, quadcast::window_depth (quadcast/raycast.hpp)";
+    static constexpr const char* summary = "brute-force ray casting: a fragment's local ray, hit, depth and normal";
+    template <class IO> static void run(IO& io) {
+        using T = typename IO::T;
+        const QuadricPrimitive<T> p = primitive_inputs<Opt.planes>(io);
+        const Vec3<T> origin = io.template vec<3>("origin");
+        const Vec3<T> dir = io.template vec<3>("dir");
+        const Vec3<T> vz_row = io.template vec<3>("vz_row");
+        const Vec4<T> pz = io.template vec<4>("pz");
+        const LocalRay<T> r = local_ray(p, origin, dir);
+        const CastHit<T> h = cast<Opt>(p, r);
+        const T depth = window_depth(h.lambda, dot(vz_row, r.v), pz);
+        io.out("hit", (h.hit && depth >= T(0)) && depth <= T(1));
+        io.out("depth", depth);
+        io.out("normal", h.normal);
+    }
+    static void generate(std::mt19937& rng, std::span<float> in) {
+        std::size_t p = 0;
+        put_primitive(rng, in, p);
+        if constexpr (Opt.planes)
+            for (int i = 0; i < 4; ++i) put(in, p, vec4(random_direction(rng), uniform(rng, 0.0f, 2.0f)));
+        const Vec3<float> o = random_point(rng, 50.0f) + random_direction(rng) * uniform(rng, 1.0f, 100.0f);
+        put(in, p, o);
+        put(in, p, normalize(random_point(rng, 50.0f) - o));
+        put(in, p, random_direction(rng));
+        put(in, p, vec4(-1.002f, -0.2002f, -1.0f, 0.0f));
+    }
+};
+
 }  // namespace quadcast::codegen::kernels

@@ -64,6 +64,15 @@ const std::vector<KernelDef>& registry() {
         make_kernel<SplinePieceHitKernel<2>>(),
         make_kernel<SplinePieceHitKernel<3>>(),
         make_kernel<TrilinearCellHitKernel>(),
+        make_kernel<PixelRayKernel>(),
+        make_kernel<FragmentBruteKernel<CastOptions{true, false, false}>>(),
+        make_kernel<FragmentBruteKernel<CastOptions{false, false, false}>>(),
+        make_kernel<FragmentBruteKernel<CastOptions{true, true, false}>>(),
+        make_kernel<FragmentBruteKernel<CastOptions{false, true, false}>>(),
+        make_kernel<FragmentBruteKernel<CastOptions{true, false, true}>>(),
+        make_kernel<FragmentBruteKernel<CastOptions{false, false, true}>>(),
+        make_kernel<FragmentBruteKernel<CastOptions{true, false, false, true}>>(),
+        make_kernel<FragmentBruteKernel<CastOptions{false, false, false, true}>>(),
     };
     return all;
 }

@@ -90,11 +90,12 @@ Stage vertex_shader(bool ortho) {
 /// The quadric pass: forward (cast and shade) or, with `gbuffer`, cast and write the geometry
 /// buffer of the deferred pass (Sigg et al. 2006, sec. 4): normal and window depth, ray direction
 /// (the shading's eye vector) and colour.
-Stage fragment_shader(const std::string& variant, bool ortho, bool gbuffer = false) {
+Stage fragment_shader(const std::string& variant, bool ortho, bool gbuffer = false, bool brute = false) {
     Stage s;
     const bool planes = variant.rfind("planes", 0) == 0;
     std::ostringstream fns;
-    add_kernel(s, fns, "fragment_" + variant);
+    if (brute) add_kernel(s, fns, "pixel_ray");
+    add_kernel(s, fns, "fragment_" + variant + (brute ? "_brute" : ""));
     if (!gbuffer) add_kernel(s, fns, "shade_blinn_phong");
     const char* q = ortho ? "" : "flat ";
     const char* vq = ortho ? "flat " : "";
@@ -105,6 +106,9 @@ Stage fragment_shader(const std::string& variant, bool ortho, bool gbuffer = fal
              "struct qc_Planes { vec4 p[4]; };\n"
              "layout(std430, binding = 1) readonly buffer qc_PlaneSets { qc_Planes qc_planes[]; };\n"
              "uniform uint qc_first;\n\n";
+    if (brute)
+        m << "uniform mat4 qc_inv_view_proj;  // brute force: the pixel's ray from gl_FragCoord\n"
+             "uniform vec3 qc_eye;\nuniform vec2 qc_viewport;\n";
     m << "uniform vec3 qc_vz_row;       // third row of the world->view rotation\n"
          "uniform vec4 qc_pz;           // P22, P32, P23, P33 of the projection\n";
     if (!gbuffer)
@@ -121,21 +125,25 @@ Stage fragment_shader(const std::string& variant, bool ortho, bool gbuffer = fal
     m << fns.str();
     m << "void main()\n{\n"
          "    qc_Primitive p = qc_prims[qc_prim];\n"
-         "    bool hit;\n    float depth;\n    vec3 n;\n"
-         "    qc_fragment_" << variant << "(qc_record_quadric(p), p.center.xyz, p.q2.z, p.axis.xyz, p.q2.w,\n"
+         "    bool hit;\n    float depth;\n    vec3 n;\n";
+    if (brute)
+        m << "    vec3 ro, rd;\n"
+             "    qc_pixel_ray(qc_inv_view_proj, qc_eye, gl_FragCoord.xy, qc_viewport, ro, rd);\n";
+    const char* eye_vec = brute ? "rd" : "qc_v";
+    m << "    qc_fragment_" << variant << (brute ? "_brute" : "") << "(qc_record_quadric(p), p.center.xyz, p.q2.z, p.axis.xyz, p.q2.w,\n"
       << (planes ? "        qc_planes[qc_prim - qc_first].p[0], qc_planes[qc_prim - qc_first].p[1], qc_planes[qc_prim - qc_first].p[2], qc_planes[qc_prim - qc_first].p[3],\n" : "")
-      << "        qc_o, qc_v, qc_g, qc_a, qc_vz_row, qc_pz, hit, depth, n);\n"
-         "    if (!hit) discard;\n"
+      << (brute ? "        ro, rd, qc_vz_row, qc_pz, hit, depth, n);\n" : "        qc_o, qc_v, qc_g, qc_a, qc_vz_row, qc_pz, hit, depth, n);\n")
+      << "    if (!hit) discard;\n"
          "    gl_FragDepth = depth;\n";
     if (gbuffer)
         m << "    qc_gnormal = vec4(n, depth);\n"
-             "    qc_gview = vec4(qc_v, 1.0);\n"
-             "    qc_gcolor = vec4(p.color.rgb, 1.0);\n"
+             "    qc_gview = vec4(" << eye_vec << ", 1.0);\n"
+          << "    qc_gcolor = vec4(p.color.rgb, 1.0);\n"
              "}\n";
     else
         m << "    vec3 rgb;\n"
-             "    qc_shade_blinn_phong(n, -qc_light_dir, -qc_v, p.color.rgb, qc_light_color, qc_material, rgb);\n"
-             "    qc_color = vec4(rgb, 1.0);\n"
+             "    qc_shade_blinn_phong(n, -qc_light_dir, -" << eye_vec << ", p.color.rgb, qc_light_color, qc_material, rgb);\n"
+          << "    qc_color = vec4(rgb, 1.0);\n"
              "}\n";
     s.text = m.str();
     return s;
@@ -255,6 +263,19 @@ std::vector<StageShader> render_stage_shaders() {
                            "#version 450 core\n" + banner("glsl/render/" + gname, g.sources, g.ops, std::string("quadric renderer: geometry-buffer fragment stage (deferred shading), ") + variant + ", " + proj + " camera") + "\n" + g.text});
         }
     }
+    // Benchmark baselines (quadcast bench fragments), perspective camera, forward shading: the
+    // brute-force fragment stage (the pixel's ray from gl_FragCoord, `pixel_ray`, then
+    // `local_ray` and `cast` per fragment) and a pass-through fragment stage (constant colour,
+    // rasterised depth) that bounds the fill rate.
+    for (const char* variant : {"closed", "closed_nocull", "slab", "slab_nocull", "bounded", "bounded_nocull", "planes", "planes_nocull"}) {
+        const Stage f = fragment_shader(variant, false, false, true);
+        const std::string fname = std::string("qc_quadric_") + variant + "_brute_perspective.frag";
+        out.push_back({fname, "glsl/render/" + fname,
+                       "#version 450 core\n" + banner("glsl/render/" + fname, f.sources, f.ops, std::string("quadric renderer: brute-force fragment stage (benchmark baseline), ") + variant + ", perspective camera") + "\n" + f.text});
+    }
+    out.push_back({"qc_passthrough.frag", "glsl/render/qc_passthrough.frag",
+                   "#version 450 core\n" + banner("glsl/render/qc_passthrough.frag", "", {}, "pass-through fragment stage (benchmark baseline: the rasteriser's fill rate)") +
+                       "\nlayout(location = 0) out vec4 qc_color;\n\nvoid main()\n{\n    qc_color = vec4(0.5, 0.5, 0.5, 1.0);\n    gl_FragDepth = gl_FragCoord.z;\n}\n"});
     out.push_back({"qc_fullscreen.vert", "glsl/render/qc_fullscreen.vert",
                    "#version 450 core\n" + banner("glsl/render/qc_fullscreen.vert", "", {}, "deferred shading: full-screen triangle") + "\n" + fullscreen_vertex});
     for (bool shadows : {false, true})

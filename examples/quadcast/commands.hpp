@@ -17,6 +17,8 @@ void add_bench_stability(CLI::App& bench);
 void add_bench_spheres(CLI::App& bench);
 /// `quadcast bench culling`: per-quadric culling on vs off on a closed surface of patches.
 void add_bench_culling(CLI::App& bench);
+/// `quadcast bench fragments`: incremental vs brute-force vs pass-through fragment stage.
+void add_bench_fragments(CLI::App& bench);
 
 /// `quadcast render SCENE.json -o out.png`: renders a scene with GL (or the CPU reference).
 void add_render(CLI::App& app);

@@ -15,6 +15,7 @@ int main(int argc, char** argv) {
     quadcast::cli::add_bench_stability(*bench);
     quadcast::cli::add_bench_spheres(*bench);
     quadcast::cli::add_bench_culling(*bench);
+    quadcast::cli::add_bench_fragments(*bench);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

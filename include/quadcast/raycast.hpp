@@ -203,3 +203,28 @@ Vec3<T> shade_blinn_phong(const Vec3<T>& n_in, const Vec3<T>& l_in, const Vec3<T
 }
 
 }  // namespace quadcast
+
+namespace quadcast {
+
+/// A world-space ray (origin, direction).
+template <class T>
+struct WorldRay {
+    Vec3<T> origin, dir;
+};
+
+/// The world-space ray of a pixel of a perspective camera, reconstructed from its window position
+/// (the brute-force fragment stage): origin the eye, direction towards the pixel's point on the
+/// near plane, unprojected with the inverse view-projection (NDC z = -1). Its view-space z is the
+/// near-plane z, so `window_depth(lambda, dot(vz_row, dir), pz)` applies as for the interpolated ray.
+/// Numerics: ndc = (2 frag) / viewport - 1 per component; p = inv_view_proj * (ndc, -1, 1) (left
+/// folds); dir = xyz(p) * (1 / p.w) - eye.
+template <class T>
+WorldRay<T> pixel_ray(const Mat4<T>& inv_view_proj, const Vec3<T>& eye, const Vec2<T>& frag, const Vec2<T>& viewport) {
+    const T x = (T(2) * frag[0]) / viewport[0] - T(1);
+    const T y = (T(2) * frag[1]) / viewport[1] - T(1);
+    const Vec4<T> p = inv_view_proj * vec4(x, y, T(-1), T(1));
+    const T w = T(1) / p[3];
+    return {eye, vec3(p[0] * w, p[1] * w, p[2] * w) - eye};
+}
+
+}  // namespace quadcast

@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <cmath>
 #include <map>
 #include <memory>
 #include <string>
@@ -63,9 +64,24 @@ public:
         api_->DeleteBuffers(1, &planes_);
         api_->DeleteBuffers(1, &indices_);
         api_->DeleteVertexArrays(1, &vao_);
+        if (query_) api_->DeleteQueries(1, &query_);
     }
     QuadricRenderer(const QuadricRenderer&) = delete;
     QuadricRenderer& operator=(const QuadricRenderer&) = delete;
+
+    /// Which fragment stage the forward pass uses (`quadcast bench fragments`): the incremental
+    /// cast of the interpolated ray (default); brute force, which rebuilds the pixel's world ray
+    /// from gl_FragCoord (`pixel_ray`) and runs `local_ray` and `cast` per fragment (same image,
+    /// perspective camera and forward shading only); or a pass-through stage writing a constant
+    /// colour and the rasterised depth over the same bounding quads (the fill-rate ceiling).
+    enum class FragmentStage { incremental, brute_force, passthrough };
+    void set_fragment_stage(FragmentStage s) { stage_ = s; }
+    FragmentStage fragment_stage() const { return stage_; }
+    /// Depth test of the primitive pass (on by default); off makes every rasterised fragment
+    /// count in `samples_passed`.
+    void set_depth_test(bool on) { depth_test_ = on; }
+    /// Samples that passed (GL_SAMPLES_PASSED) in the primitive pass of the last `draw`.
+    std::uint64_t samples_passed() const { return samples_passed_; }
 
     /// Uploads the primitives (grouped by variant). Call again when they change.
     void set_primitives(const std::vector<render::Primitive>& prims) {
@@ -141,9 +157,15 @@ public:
         }
         gl.Viewport(0, 0, opt.width, opt.height);
         gl.ClearBufferfv(GL_DEPTH, 0, &one);
-        gl.Enable(GL_DEPTH_TEST);
+        if (depth_test_) gl.Enable(GL_DEPTH_TEST); else gl.Disable(GL_DEPTH_TEST);
         gl.DepthFunc(GL_LESS);
+        if (!query_) gl.GenQueries(1, &query_);
+        gl.BeginQuery(GL_SAMPLES_PASSED, query_);
         draw_primitives(cam, light, opt, deferred);
+        gl.EndQuery(GL_SAMPLES_PASSED);
+        GLuint64 passed = 0;
+        gl.GetQueryObjectui64v(query_, GL_QUERY_RESULT, &passed);
+        samples_passed_ = static_cast<std::uint64_t>(passed);
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, 0);
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, 0);
         if (deferred) shade_deferred(cam, light, opt);
@@ -198,7 +220,15 @@ private:
     const Program& program(render::Variant v, bool cull, bool ortho, bool gbuffer = false) {
         const std::string variant = std::string(render::variant_name(v)) + (cull ? "" : "_nocull");
         const std::string proj = ortho ? "ortho" : "perspective";
-        const std::string vs = "qc_quadric_" + proj + ".vert", fs = (gbuffer ? "qc_gbuffer_" : "qc_quadric_") + variant + "_" + proj + ".frag";
+        const std::string vs = "qc_quadric_" + proj + ".vert";
+        if (stage_ != FragmentStage::incremental && !gbuffer) {
+            if (stage_ == FragmentStage::passthrough) return program(vs, "qc_passthrough.frag");
+            if (ortho) throw std::runtime_error("quadcast::gl::QuadricRenderer: the brute-force fragment stage needs a perspective camera");
+            return program(vs, "qc_quadric_" + variant + "_brute_perspective.frag");
+        }
+        if (stage_ != FragmentStage::incremental && gbuffer)
+            throw std::runtime_error("quadcast::gl::QuadricRenderer: the brute-force and pass-through fragment stages shade forward only");
+        const std::string fs = (gbuffer ? "qc_gbuffer_" : "qc_quadric_") + variant + "_" + proj + ".frag";
         return program(vs, fs);
     }
 
@@ -319,6 +349,39 @@ private:
         gl.Uniform3fv(p.uniform_location("qc_light_dir"), 1, light.direction.c);
         gl.Uniform3fv(p.uniform_location("qc_light_color"), 1, light.color.c);
         gl.Uniform4fv(p.uniform_location("qc_material"), 1, opt.material.c);
+        if (stage_ == FragmentStage::brute_force) {
+            const Mat4<float> ivp = inverse_view_projection(cam);
+            gl.UniformMatrix4fv(p.uniform_location("qc_inv_view_proj"), 1, GL_FALSE, &ivp[0][0]);
+            gl.Uniform2f(p.uniform_location("qc_viewport"), static_cast<float>(opt.width), static_cast<float>(opt.height));
+        }
+    }
+
+    /// (projection view)^-1 in double (Gauss-Jordan with partial pivoting), rounded to float.
+    static Mat4<float> inverse_view_projection(const render::Camera& cam) {
+        double a[4][8] = {};
+        for (int r = 0; r < 4; ++r)
+            for (int c = 0; c < 4; ++c) {
+                double s = 0.0;
+                for (int k = 0; k < 4; ++k) s += static_cast<double>(cam.projection[k][r]) * static_cast<double>(cam.view[c][k]);
+                a[r][c] = s;
+                a[r][4 + c] = r == c ? 1.0 : 0.0;
+            }
+        for (int c = 0; c < 4; ++c) {
+            int piv = c;
+            for (int r = c + 1; r < 4; ++r) if (std::abs(a[r][c]) > std::abs(a[piv][c])) piv = r;
+            for (int k = 0; k < 8; ++k) std::swap(a[c][k], a[piv][k]);
+            const double d = a[c][c];
+            for (int k = 0; k < 8; ++k) a[c][k] /= d;
+            for (int r = 0; r < 4; ++r) {
+                if (r == c) continue;
+                const double f = a[r][c];
+                for (int k = 0; k < 8; ++k) a[r][k] -= f * a[c][k];
+            }
+        }
+        Mat4<float> m{};
+        for (int r = 0; r < 4; ++r)
+            for (int c = 0; c < 4; ++c) m[c][r] = static_cast<float>(a[r][4 + c]);
+        return m;
     }
 
     /// View-space corners of the near-plane rectangle (for primitives whose bounding sphere
@@ -393,6 +456,10 @@ private:
     std::size_t count_ = 0;
     std::pair<std::uint32_t, std::uint32_t> ranges_[render::variant_count] = {};
     std::map<std::string, std::unique_ptr<Program>> programs_;
+    FragmentStage stage_ = FragmentStage::incremental;
+    bool depth_test_ = true;
+    GLuint query_ = 0;
+    std::uint64_t samples_passed_ = 0;
 };
 
 }  // namespace quadcast::gl
