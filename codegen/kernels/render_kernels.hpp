@@ -120,6 +120,14 @@ struct PrimitiveVertexKernel {
     }
 };
 
+/// The outputs of every fragment-stage kernel.
+template <class IO>
+void output_fragment(IO& io, const FragmentHit<typename IO::T>& f) {
+    io.out("hit", f.hit);
+    io.out("depth", f.depth);
+    io.out("normal", f.normal);
+}
+
 /// Name of a fragment-stage variant: fragment_<closed|slab|bounded>[_nocull].
 constexpr const char* fragment_kernel_name(CastOptions o) {
     if (o.planes) return o.cull ? "fragment_planes" : "fragment_planes_nocull";
@@ -133,7 +141,7 @@ constexpr const char* fragment_kernel_name(CastOptions o) {
 template <CastOptions Opt>
 struct FragmentCastKernel {
     static constexpr const char* name = fragment_kernel_name(Opt);
-    static constexpr const char* source = "quadcast::cast, quadcast::window_depth (quadcast/raycast.hpp)";
+    static constexpr const char* source = "quadcast::cast_and_depth (quadcast/raycast.hpp)";
     static constexpr const char* summary = "incremental ray casting: a fragment's hit, depth and normal (Stoll et al. 2006, sec. 5)";
     template <class IO> static void run(IO& io) {
         using T = typename IO::T;
@@ -141,11 +149,7 @@ struct FragmentCastKernel {
         const LocalRay<T> r{io.template vec<3>("o"), io.template vec<3>("v"), io.template vec<3>("g"), io.template vec<3>("a")};
         const Vec3<T> vz_row = io.template vec<3>("vz_row");
         const Vec4<T> pz = io.template vec<4>("pz");
-        const CastHit<T> h = cast<Opt>(p, r);
-        const T depth = window_depth(h.lambda, dot(vz_row, r.v), pz);
-        io.out("hit", (h.hit && depth >= T(0)) && depth <= T(1));
-        io.out("depth", depth);
-        io.out("normal", h.normal);
+        output_fragment(io, cast_and_depth<Opt>(p, r, vz_row, pz));
     }
     static void generate(std::mt19937& rng, std::span<float> in) {
         std::size_t p = 0;
@@ -352,7 +356,7 @@ constexpr const char* fragment_brute_kernel_name(CastOptions o) {
 template <CastOptions Opt>
 struct FragmentBruteKernel {
     static constexpr const char* name = fragment_brute_kernel_name(Opt);
-    static constexpr const char* source = "quadcast::local_ray, quadcast::cast, quadcast::window_depth (quadcast/raycast.hpp)";
+    static constexpr const char* source = "quadcast::local_ray, quadcast::cast_and_depth (quadcast/raycast.hpp)";
     static constexpr const char* summary = "brute-force ray casting: a fragment's local ray, hit, depth and normal";
     template <class IO> static void run(IO& io) {
         using T = typename IO::T;
@@ -361,12 +365,7 @@ struct FragmentBruteKernel {
         const Vec3<T> dir = io.template vec<3>("dir");
         const Vec3<T> vz_row = io.template vec<3>("vz_row");
         const Vec4<T> pz = io.template vec<4>("pz");
-        const LocalRay<T> r = local_ray(p, origin, dir);
-        const CastHit<T> h = cast<Opt>(p, r);
-        const T depth = window_depth(h.lambda, dot(vz_row, r.v), pz);
-        io.out("hit", (h.hit && depth >= T(0)) && depth <= T(1));
-        io.out("depth", depth);
-        io.out("normal", h.normal);
+        output_fragment(io, cast_and_depth<Opt>(p, local_ray(p, origin, dir), vz_row, pz));
     }
     static void generate(std::mt19937& rng, std::span<float> in) {
         std::size_t p = 0;

@@ -182,6 +182,25 @@ T window_depth(const T& lambda, const T& vz, const Vec4<T>& pz) {
     return T(0.5) * ((pz[0] * z + pz[1]) / (pz[2] * z + pz[3])) + T(0.5);
 }
 
+/// What the fragment stage keeps of a cast: the hit (only between the near and far planes,
+/// window depth in [0, 1]), its window depth and the unnormalised normal.
+template <class T>
+struct FragmentHit {
+    mask_t<T> hit;
+    T depth;
+    Vec3<T> normal;
+};
+
+/// `cast` then `window_depth` for a ray whose origin lies in the camera plane; vz_row is the
+/// third row of the world -> view rotation. The one definition of a fragment's hit for the GL
+/// fragment stages (incremental and brute force) and the CPU reference renderer.
+template <CastOptions Opt, class T>
+FragmentHit<T> cast_and_depth(const QuadricPrimitive<T>& p, const LocalRay<T>& r, const Vec3<T>& vz_row, const Vec4<T>& pz) {
+    const CastHit<T> h = cast<Opt>(p, r);
+    const T depth = window_depth(h.lambda, dot(vz_row, r.v), pz);
+    return {(h.hit && depth >= T(0)) && depth <= T(1), depth, h.normal};
+}
+
 /// Blinn-Phong shading with one directional light, two-sided (a normal facing away from the eye
 /// is flipped: back faces are lit like front faces when culling is off). n, l, e need not be
 /// unit vectors (normalised here); l points towards the light, e towards the eye. The specular lobe

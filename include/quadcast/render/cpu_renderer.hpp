@@ -127,14 +127,11 @@ inline std::uint8_t to_unorm8(float c) {
     return static_cast<std::uint8_t>(c * 255.0f + 0.5f);
 }
 
-/// `cast` of one variant at one pixel ray, with the fragment stage's depth and range test
-/// (FragmentCastKernel in codegen/kernels/render_kernels.hpp).
+/// `cast_and_depth` of one variant at one pixel ray, as the GL fragment stage computes it.
 template <CastOptions Opt>
 Fragment cast_variant(const QuadricPrimitive<float>& p, const PixelRay& ray, const FrameSetup& f) {
-    const LocalRay<float> r = local_ray(p, ray.origin, ray.dir);
-    const CastHit<float> h = cast<Opt>(p, r);
-    const float depth = window_depth(h.lambda, dot(f.vz_row, r.v), f.pz);
-    return {(h.hit && depth >= 0.0f) && depth <= 1.0f, depth, h.normal};
+    const FragmentHit<float> h = cast_and_depth<Opt>(p, local_ray(p, ray.origin, ray.dir), f.vz_row, f.pz);
+    return {h.hit, h.depth, h.normal};
 }
 
 /// Calls fn.template operator()<cast_options(v, cull)>() for the runtime variant v. Every
