@@ -12,33 +12,11 @@
 using namespace quadcast;
 using namespace quadcast::render;
 
-namespace {
-
-/// Spheres, capped cylinders and sphere-bounded hyperboloids (closed, slab and bounded variants).
-std::vector<render::Primitive> brute_scene(unsigned seed) {
-    std::mt19937 rng(seed);
-    std::uniform_real_distribution<float> u(-2.0f, 2.0f), s(0.15f, 0.5f);
-    std::vector<render::Primitive> out;
-    for (int i = 0; i < 60; ++i) out.push_back(qc_render_test::sphere(vec3(u(rng), u(rng), u(rng)), s(rng)));
-    for (int i = 0; i < 30; ++i) {
-        const Vec3<double> a = qc_render_test::random_dir(rng);
-        out.push_back(qc_render_test::cylinder(vec3(u(rng), u(rng), u(rng)), cast<float>(a), s(rng) * 0.5f, s(rng)));
-    }
-    for (int i = 0; i < 10; ++i) {
-        Quadric<float> h = quadric_from_abc(identity<float, 3>(), vec3(0.0f, 0.0f, 0.0f), -0.04f);
-        h.q[1][1] = -1.0f;  // x^2 - y^2 + z^2 = 0.04: a one-sheet hyperboloid
-        out.push_back(qc_render_test::bounded(vec3(u(rng), u(rng), u(rng)), h, s(rng)));
-    }
-    return out;
-}
-
-}  // namespace
-
 TEST_CASE("the brute-force fragment stage renders the image of the incremental one") {
     using Stage = gl::QuadricRenderer::FragmentStage;
     gl::OsmesaContext ctx;
     gl::QuadricRenderer r(ctx.api());
-    r.set_primitives(brute_scene(5));
+    r.set_primitives(qc_render_test::mixed_scene(5, {60, 30, 10, false, false}));
     Light light;
     light.direction = vec3(-0.4f, -0.6f, -1.0f);
     const Camera cam = qc_render_test::look_at(vec3(0.5, 1.0, 8.0), vec3(0.0, 0.0, 0.0), vec3(0.0, 1.0, 0.0), qc_render_test::perspective(50, 240.0 / 180.0, 1, 20));
@@ -79,7 +57,7 @@ TEST_CASE("the pass-through fragment stage fills every bounding quad and counts 
     using Stage = gl::QuadricRenderer::FragmentStage;
     gl::OsmesaContext ctx;
     gl::QuadricRenderer r(ctx.api());
-    r.set_primitives(brute_scene(6));
+    r.set_primitives(qc_render_test::mixed_scene(6, {60, 30, 10, false, false}));
     Light light;
     const Camera cam = qc_render_test::look_at(vec3(0.5, 1.0, 8.0), vec3(0.0, 0.0, 0.0), vec3(0.0, 1.0, 0.0), qc_render_test::perspective(50, 240.0 / 180.0, 1, 20));
     RenderOptions o;

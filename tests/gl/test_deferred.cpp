@@ -15,24 +15,6 @@ using namespace quadcast::render;
 
 namespace {
 
-/// Overlapping spheres, capped cylinders and sphere-bounded hyperboloids in random colours.
-std::vector<render::Primitive> deferred_scene(unsigned seed) {
-    std::mt19937 rng(seed);
-    std::uniform_real_distribution<float> u(-2.0f, 2.0f), s(0.15f, 0.5f), c(0.1f, 1.0f);
-    std::vector<render::Primitive> out;
-    for (int i = 0; i < 50; ++i) out.push_back(qc_render_test::sphere(vec3(u(rng), u(rng), u(rng)), s(rng), vec3(c(rng), c(rng), c(rng))));
-    for (int i = 0; i < 25; ++i) {
-        const Vec3<double> a = qc_render_test::random_dir(rng);
-        out.push_back(qc_render_test::cylinder(vec3(u(rng), u(rng), u(rng)), cast<float>(a), s(rng) * 0.5f, s(rng), vec3(c(rng), c(rng), c(rng))));
-    }
-    for (int i = 0; i < 8; ++i) {
-        Quadric<float> h = quadric_from_abc(identity<float, 3>(), vec3(0.0f, 0.0f, 0.0f), -0.04f);
-        h.q[1][1] = -1.0f;
-        out.push_back(qc_render_test::bounded(vec3(u(rng), u(rng), u(rng)), h, s(rng)));
-    }
-    return out;
-}
-
 Camera test_camera(bool ortho) {
     return ortho ? qc_render_test::look_at(vec3(0.5, 1.0, 8.0), vec3(0.0, 0.0, 0.0), vec3(0.0, 1.0, 0.0), qc_render_test::orthographic(-4, 4, -3, 3, 1, 20), true)
                  : qc_render_test::look_at(vec3(0.5, 1.0, 8.0), vec3(0.0, 0.0, 0.0), vec3(0.0, 1.0, 0.0), qc_render_test::perspective(50, 240.0 / 180.0, 1, 20));
@@ -59,7 +41,7 @@ ColorDiff color_diff(const Image& a, const Image& b) {
 TEST_CASE("deferred shading draws the image forward shading draws") {
     gl::OsmesaContext ctx;
     gl::QuadricRenderer r(ctx.api());
-    const std::vector<render::Primitive> prims = deferred_scene(11);
+    const std::vector<render::Primitive> prims = qc_render_test::mixed_scene(11, {50, 25, 8, true, false});
     r.set_primitives(prims);
     Light light;
     light.direction = vec3(-0.4f, -0.6f, -1.0f);
@@ -93,7 +75,7 @@ TEST_CASE("deferred shading draws the image forward shading draws") {
 TEST_CASE("silhouette outlines darken edges only, and the GL and CPU renderers agree on them") {
     gl::OsmesaContext ctx;
     gl::QuadricRenderer r(ctx.api());
-    const std::vector<render::Primitive> prims = deferred_scene(12);
+    const std::vector<render::Primitive> prims = qc_render_test::mixed_scene(12, {50, 25, 8, true, false});
     r.set_primitives(prims);
     Light light;
     light.direction = vec3(-0.4f, -0.6f, -1.0f);
@@ -152,7 +134,7 @@ TEST_CASE("silhouette outlines darken edges only, and the GL and CPU renderers a
 TEST_CASE("soft shadows only darken, and the GL and CPU renderers agree on them") {
     gl::OsmesaContext ctx;
     gl::QuadricRenderer r(ctx.api());
-    const std::vector<render::Primitive> prims = deferred_scene(13);
+    const std::vector<render::Primitive> prims = qc_render_test::mixed_scene(13, {50, 25, 8, true, false});
     r.set_primitives(prims);
     Light light;
     light.direction = vec3(-0.4f, -0.6f, -1.0f);

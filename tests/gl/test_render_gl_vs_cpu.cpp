@@ -15,25 +15,6 @@ using namespace quadcast::render;
 
 namespace {
 
-/// Spheres, capped cylinders (some seen end-on), ellipsoids and sphere-bounded hyperboloids.
-std::vector<render::Primitive> mixed_scene(unsigned seed) {
-    std::mt19937 rng(seed);
-    std::uniform_real_distribution<float> u(-2.0f, 2.0f), s(0.15f, 0.5f);
-    std::vector<render::Primitive> out;
-    for (int i = 0; i < 60; ++i) out.push_back(qc_render_test::sphere(vec3(u(rng), u(rng), u(rng)), s(rng)));
-    for (int i = 0; i < 30; ++i) {
-        const Vec3<double> a = qc_render_test::random_dir(rng);
-        out.push_back(qc_render_test::cylinder(vec3(u(rng), u(rng), u(rng)), cast<float>(a), s(rng) * 0.5f, s(rng)));
-    }
-    out.push_back(qc_render_test::cylinder(vec3(0.0f, 0.0f, 0.0f), vec3(0.0f, 0.0f, 1.0f), 0.4f, 0.6f));  // end-on
-    for (int i = 0; i < 10; ++i) {
-        Quadric<float> h = quadric_from_abc(identity<float, 3>(), vec3(0.0f, 0.0f, 0.0f), -0.04f);
-        h.q[1][1] = -1.0f;  // x^2 - y^2 + z^2 = 0.04: a one-sheet hyperboloid
-        out.push_back(qc_render_test::bounded(vec3(u(rng), u(rng), u(rng)), h, s(rng)));
-    }
-    return out;
-}
-
 struct Diff {
     long coverage = 0, coverage_diff = 0, color_diff = 0;
     double max_depth = 0;
@@ -58,7 +39,7 @@ Diff compare(const Image& a, const Image& b) {
 TEST_CASE("the GL renderer draws what the CPU reference draws") {
     gl::OsmesaContext ctx;
     gl::QuadricRenderer r(ctx.api());
-    const std::vector<render::Primitive> prims = mixed_scene(3);
+    const std::vector<render::Primitive> prims = qc_render_test::mixed_scene(3, {60, 30, 10, false, true});
     r.set_primitives(prims);
     Light light;
     light.direction = vec3(-0.4f, -0.6f, -1.0f);

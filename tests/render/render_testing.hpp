@@ -291,4 +291,38 @@ inline float depth_at(const Image& img, int x, int y_window) {
     return img.depth[std::size_t(img.height - 1 - y_window) * img.width + x];
 }
 
+/// What `mixed_scene` puts in: random spheres, capped cylinders and sphere-bounded one-sheet
+/// hyperboloids (closed, slab and bounded variants) in [-2, 2]^3.
+struct MixedScene {
+    int spheres = 60, cylinders = 30, hyperboloids = 10;
+    bool colored = false;          ///< a random colour per object (else each helper's default)
+    bool end_on_cylinder = false;  ///< add a cylinder along z at the origin (seen end-on)
+};
+
+inline std::vector<Primitive> mixed_scene(unsigned seed, const MixedScene& m = {}) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> u(-2.0f, 2.0f), s(0.15f, 0.5f), c(0.1f, 1.0f);
+    auto color = [&](Vec3<float> fallback) { return m.colored ? vec3(c(rng), c(rng), c(rng)) : fallback; };
+    std::vector<Primitive> out;
+    for (int i = 0; i < m.spheres; ++i) {
+        const Vec3<float> p = vec3(u(rng), u(rng), u(rng));
+        const float r = s(rng);
+        out.push_back(sphere(p, r, color(vec3(0.8f, 0.3f, 0.2f))));
+    }
+    for (int i = 0; i < m.cylinders; ++i) {
+        const Vec3<double> a = random_dir(rng);
+        const Vec3<float> p = vec3(u(rng), u(rng), u(rng));
+        const float r = s(rng) * 0.5f, h = s(rng);
+        out.push_back(cylinder(p, cast<float>(a), r, h, color(vec3(0.2f, 0.6f, 0.9f))));
+    }
+    if (m.end_on_cylinder) out.push_back(cylinder(vec3(0.0f, 0.0f, 0.0f), vec3(0.0f, 0.0f, 1.0f), 0.4f, 0.6f));
+    for (int i = 0; i < m.hyperboloids; ++i) {
+        Quadric<float> hq = quadric_from_abc(identity<float, 3>(), vec3(0.0f, 0.0f, 0.0f), -0.04f);
+        hq.q[1][1] = -1.0f;  // x^2 - y^2 + z^2 = 0.04: a one-sheet hyperboloid
+        const Vec3<float> p = vec3(u(rng), u(rng), u(rng));
+        out.push_back(bounded(p, hq, s(rng)));
+    }
+    return out;
+}
+
 }  // namespace qc_render_test
