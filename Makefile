@@ -35,20 +35,23 @@ build: configure
 test: build
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
 
-DEMO_SCENES := 1tii_balls_and_sticks 1tii_space_filling il2_balls_and_sticks il2_space_filling quads_cube primitives marschner_lobb_qss
+DEMO_SCENES := 1tii_balls_and_sticks 1tii_space_filling il2_balls_and_sticks il2_space_filling quads_cube primitives marschner_lobb_qss reflective \
+  skull_s31 liver_qss bunny_sdf_s31
 
-demo: build demo-deps
+demo: build demo-deps data
 	@mkdir -p demo-out
 	$(BUILD)/examples/quadcast verify
 	$(BUILD)/examples/quadcast bench stability
 	@for s in $(DEMO_SCENES); do \
 	  $(BUILD)/examples/quadcast render examples/demo/$$s.json -o demo-out/$$s.png --width 1024 --height 768 --frames 3 || exit 1; \
 	done
+	$(BUILD)/examples/quadcast bench isosurfaces --volume $(DATA_DIR)/skull_2.9.inr --frames 3 --cpu-frames 1
 	@echo "PNGs in demo-out/"
 
 # CGAL's sample volumes and meshes (skull_2.9.inr, liver.inr.gz, armadillo.off, bunny00.off) from
-# the Debian package libcgal-demo, downloaded once into $(DATA_DIR).
-DATA_DIR ?= $(BUILD)/data
+# the Debian package libcgal-demo, downloaded once into $(DATA_DIR) (the demo scenes refer to
+# build/data/).
+DATA_DIR ?= build/data
 data:
 	examples/volume/fetch_cgal_data.sh $(DATA_DIR)
 

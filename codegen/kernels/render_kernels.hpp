@@ -167,6 +167,71 @@ struct FragmentCastKernel {
     }
 };
 
+/// Per vertex of a sphere's bounding quad (the sphere-specialised stage): the local ray terms o
+/// and v only (`local_ray` without g and a). No per-primitive culling: from outside a sphere
+/// shows its front, from inside (or on it) the fragment stage finds no front root.
+template <bool Ortho>
+struct SphereVertexKernel {
+    static constexpr const char* name = Ortho ? "sphere_vertex_ortho" : "sphere_vertex_perspective";
+    static constexpr const char* source = "quadcast::local_ray (quadcast/raycast.hpp), o and v";
+    static constexpr const char* summary = "incremental ray casting of a sphere: the ray terms at a corner of the bounding quad";
+    template <class IO> static void run(IO& io) {
+        using T = typename IO::T;
+        const Vec3<T> center = io.template vec<3>("center");
+        const Vec3<T> corner = io.template vec<3>("corner_view");
+        const Mat3<T> rot_inv = io.template mat<3>("view_rot_inv");
+        const Vec3<T> eye = io.template vec<3>("eye");
+        Vec3<T> origin{}, dir{};
+        if constexpr (Ortho) {
+            origin = eye + (rot_inv[0] * corner[0] + rot_inv[1] * corner[1]);
+            dir = -rot_inv[2];
+        } else {
+            origin = eye;
+            dir = rot_inv * corner;
+        }
+        io.out("o", origin - center);
+        io.out("v", dir);
+    }
+    static void generate(std::mt19937& rng, std::span<float> in) {
+        std::size_t p = 0;
+        put(in, p, random_point(rng, 50.0f));
+        put(in, p, random_point(rng, 10.0f));
+        put(in, p, transpose(random_rotation(rng)));  // view -> world
+        put(in, p, random_point(rng, 60.0f));
+    }
+};
+
+/// Per fragment of a sphere (the sphere-specialised stage): `cast_and_depth` with
+/// CastOptions::sphere, the closed form of `ray_quadratic_sphere`; reads only the radius and o, v.
+template <bool Cull>
+struct FragmentSphereKernel {
+    static constexpr const char* name = Cull ? "fragment_sphere" : "fragment_sphere_nocull";
+    static constexpr const char* source = "quadcast::cast_and_depth with CastOptions::sphere (quadcast/raycast.hpp)";
+    static constexpr const char* summary = "incremental ray casting of a sphere in closed form: a fragment's hit, depth and normal";
+    template <class IO> static void run(IO& io) {
+        using T = typename IO::T;
+        QuadricPrimitive<T> p{};
+        p.radius = io.scalar("radius");
+        const LocalRay<T> r{io.template vec<3>("o"), io.template vec<3>("v"), Vec3<T>{}, Vec3<T>{}};
+        const Vec3<T> vz_row = io.template vec<3>("vz_row");
+        const Vec4<T> pz = io.template vec<4>("pz");
+        output_fragment(io, cast_and_depth<CastOptions{Cull, false, false, false, true}>(p, r, vz_row, pz));
+    }
+    static void generate(std::mt19937& rng, std::span<float> in) {
+        std::size_t p = 0;
+        const float radius = uniform(rng, 0.001f, 3.0f);
+        put(in, p, radius);
+        // Eyes outside, near and inside the sphere; rays around it.
+        const float k = uniform(rng, 0.0f, 1.0f);
+        const float d = k < 0.1f ? radius * uniform(rng, 0.0f, 1.0f) : k < 0.2f ? radius * uniform(rng, 0.999f, 1.001f) : uniform(rng, radius, 1000.0f);
+        const Vec3<float> o = random_direction(rng) * d;
+        put(in, p, o);
+        put(in, p, (random_point(rng, 1.2f * radius) - o) * uniform(rng, 0.01f, 10.0f));
+        put(in, p, random_direction(rng));
+        put(in, p, vec4(-1.002f, -0.2002f, -1.0f, 0.0f));
+    }
+};
+
 /// Shading: Blinn-Phong with one directional light (`shade_blinn_phong`).
 struct ShadeKernel {
     static constexpr const char* name = "shade_blinn_phong";
@@ -377,6 +442,73 @@ struct FragmentBruteKernel {
         put(in, p, normalize(random_point(rng, 50.0f) - o));
         put(in, p, random_direction(rng));
         put(in, p, vec4(-1.002f, -0.2002f, -1.0f, 0.0f));
+    }
+};
+
+/// Environment reflection: the mirror direction of the view ray about the normal (`reflect_view`).
+struct ReflectViewKernel {
+    static constexpr const char* name = "reflect_view";
+    static constexpr const char* source = "quadcast::reflect_view (quadcast/shading.hpp)";
+    static constexpr const char* summary = "environment reflection: mirror direction of the view ray";
+    template <class IO> static void run(IO& io) {
+        using T = typename IO::T;
+        const Vec3<T> n = io.template vec<3>("n"), e = io.template vec<3>("e");
+        io.out("r", reflect_view(n, e));
+    }
+    static void generate(std::mt19937& rng, std::span<float> in) {
+        std::size_t p = 0;
+        put(in, p, random_direction(rng) * uniform(rng, 0.01f, 10.0f));
+        put(in, p, random_direction(rng) * uniform(rng, 0.01f, 100.0f));
+    }
+};
+
+/// Environment reflection: the lookup position of the reflected view ray in a latitude-longitude
+/// image (`reflect_view`, `latlong_texel`).
+struct EnvironmentTexelKernel {
+    static constexpr const char* name = "environment_texel";
+    static constexpr const char* source = "quadcast::reflect_view, quadcast::latlong_texel (quadcast/shading.hpp)";
+    static constexpr const char* summary = "environment reflection: latitude-longitude texel position of the reflected ray";
+    template <class IO> static void run(IO& io) {
+        using T = typename IO::T;
+        const Vec3<T> n = io.template vec<3>("n"), e = io.template vec<3>("e");
+        const Vec2<T> size = io.template vec<2>("size");
+        io.out("texel", latlong_texel(reflect_view(n, e), size));
+    }
+    static void generate(std::mt19937& rng, std::span<float> in) {
+        std::size_t p = 0;
+        Vec3<float> n = random_direction(rng) * uniform(rng, 0.01f, 10.0f);
+        // Adversarial: normals in the coordinate planes and along the axes (atan2 octant edges).
+        if (uniform(rng, 0.0f, 1.0f) < 0.2f) n[static_cast<int>(uniform(rng, 0.0f, 2.999f))] = 0.0f;
+        put(in, p, n);
+        put(in, p, random_direction(rng) * uniform(rng, 0.01f, 100.0f));
+        put(in, p, vec2(1024.0f, 512.0f));
+    }
+};
+
+/// Environment reflection: bilinear interpolation of the four fetched texels mixed into the
+/// shaded colour by the reflectivity (`environment_mix`).
+struct EnvironmentMixKernel {
+    static constexpr const char* name = "environment_mix";
+    static constexpr const char* source = "quadcast::environment_mix (quadcast/shading.hpp)";
+    static constexpr const char* summary = "environment reflection: bilinear texel blend mixed into the Phong colour";
+    template <class IO> static void run(IO& io) {
+        using T = typename IO::T;
+        const Vec3<T> rgb = io.template vec<3>("rgb");
+        const Vec2<T> texel = io.template vec<2>("texel"), base = io.template vec<2>("base");
+        const Vec3<T> c00 = io.template vec<3>("c00"), c10 = io.template vec<3>("c10");
+        const Vec3<T> c01 = io.template vec<3>("c01"), c11 = io.template vec<3>("c11");
+        const T k = io.scalar("reflectivity");
+        io.out("mixed", environment_mix(rgb, texel, base, c00, c10, c01, c11, k));
+    }
+    static void generate(std::mt19937& rng, std::span<float> in) {
+        std::size_t p = 0;
+        auto colour = [&] { return vec3(uniform(rng, 0.0f, 1.0f), uniform(rng, 0.0f, 1.0f), uniform(rng, 0.0f, 1.0f)); };
+        put(in, p, colour());
+        const Vec2<float> t = vec2(uniform(rng, -0.5f, 1023.5f), uniform(rng, -0.5f, 511.5f));
+        put(in, p, t);
+        put(in, p, vec2(std::floor(t[0]), std::floor(t[1])));
+        for (int i = 0; i < 4; ++i) put(in, p, colour());
+        put(in, p, uniform(rng, 0.0f, 1.0f));
     }
 };
 

@@ -43,7 +43,9 @@ std::map<std::string, std::string> generate_all() {
         hpp << "    {\"" << e.name << "\", \"" << lib << "\", " << raw_literal(files[lib]) << "},\n";
         hpp << "    {\"" << e.name << ".verify\", \"" << comp << "\", " << raw_literal(files[comp]) << "},\n";
     }
-    for (const StageShader& st : render_stage_shaders()) {
+    std::vector<StageShader> stages = render_stage_shaders();
+    for (StageShader& st : spline_stage_shaders()) stages.push_back(std::move(st));
+    for (const StageShader& st : stages) {
         files[st.path] = st.text;
         hpp << "    {\"" << st.name << "\", \"" << st.path << "\", " << raw_literal(st.text) << "},\n";
     }

@@ -8,16 +8,14 @@
 #include "quadcast/codegen/emit.hpp"
 #include "quadcast/codegen/generate.hpp"
 #include "quadcast/shading.hpp"
+#include "stage_builder.hpp"
 
 namespace quadcast::codegen {
 
 namespace {
 
-const KernelDef& kernel(const std::string& name) {
-    const KernelDef* k = find_kernel(name);
-    if (!k) throw std::logic_error("quadcast::codegen: stage shader needs unregistered kernel " + name);
-    return *k;
-}
+using detail::add_kernel;
+using detail::Stage;
 
 /// The record of one primitive (std430): the local quadric's 10 coefficients, radius,
 /// half-length, centre, slab axis, colour. quadcast::gl::PrimitiveRecord packs it on the host.
@@ -37,19 +35,28 @@ const char* record_glsl =
     "                p.q0.z, p.q1.x, p.q1.y, p.q2.x,\n"
     "                p.q1.z, p.q1.w, p.q2.x, p.q2.y);\n}\n\n";
 
-struct Stage {
-    std::string text;
-    std::set<std::string> ops;
-    std::string sources;
-};
+/// Environment reflection (forward and deferred shading): the latitude-longitude image and the
+/// reflectivity, and the lookup around the traced kernels: `environment_texel` gives the position,
+/// the plumbing fetches the four texels around it (columns wrap, rows clamp; floor(position)
+/// clamped to [-1, size - 1], which holds every finite position) and `environment_mix` blends
+/// them into the colour. quadcast::render::reflect_environment is the same on the CPU.
+const char* environment_glsl =
+    "vec3 qc_reflect_environment(vec3 rgb, vec3 n, vec3 e)\n{\n"
+    "    ivec2 size = textureSize(qc_environment, 0);\n"
+    "    vec2 t;\n"
+    "    qc_environment_texel(n, e, vec2(size), t);\n"
+    "    vec2 b = clamp(floor(t), vec2(-1.0), vec2(size - 1));\n"
+    "    ivec2 i = ivec2(b);\n"
+    "    int x0 = i.x < 0 ? size.x - 1 : i.x, x1 = i.x + 1 < size.x ? i.x + 1 : 0;\n"
+    "    int y0 = max(i.y, 0), y1 = min(i.y + 1, size.y - 1);\n"
+    "    vec3 mixed;\n"
+    "    qc_environment_mix(rgb, t, b, texelFetch(qc_environment, ivec2(x0, y0), 0).rgb, texelFetch(qc_environment, ivec2(x1, y0), 0).rgb,\n"
+    "        texelFetch(qc_environment, ivec2(x0, y1), 0).rgb, texelFetch(qc_environment, ivec2(x1, y1), 0).rgb, qc_reflectivity, mixed);\n"
+    "    return mixed;\n}\n\n";
 
-void add_kernel(Stage& s, std::ostringstream& fns, const std::string& name) {
-    const KernelDef& k = kernel(name);
-    const EmittedKernel e = emit_kernel(k);
-    fns << e.function << "\n";
-    s.ops.insert(e.ops.begin(), e.ops.end());
-    s.sources += (s.sources.empty() ? "" : "; ") + k.source;
-}
+const char* environment_uniforms =
+    "layout(binding = 4) uniform sampler2D qc_environment;  // latitude-longitude RGBA32F, row 0 = straight up\n"
+    "uniform float qc_reflectivity;\n";
 
 Stage vertex_shader(bool ortho) {
     Stage s;
@@ -87,20 +94,64 @@ Stage vertex_shader(bool ortho) {
     return s;
 }
 
-/// The quadric pass: forward (cast and shade) or, with `gbuffer`, cast and write the geometry
-/// buffer of the deferred pass (Sigg et al. 2006, sec. 4): normal and window depth, ray direction
-/// (the shading's eye vector) and colour.
-Stage fragment_shader(const std::string& variant, bool ortho, bool gbuffer = false, bool brute = false) {
+/// The vertex stage of the sphere-specialised variant: the bounding quad as for every primitive,
+/// the ray terms o and v only (`sphere_vertex_*`), no per-primitive culling, and the radius and
+/// colour passed on as flat varyings (its fragment stage reads no record).
+Stage sphere_vertex_shader(bool ortho) {
     Stage s;
-    const bool planes = variant.rfind("planes", 0) == 0;
     std::ostringstream fns;
-    if (brute) add_kernel(s, fns, "pixel_ray");
-    add_kernel(s, fns, "fragment_" + variant + (brute ? "_brute" : ""));
-    if (!gbuffer) add_kernel(s, fns, "shade_blinn_phong");
+    const std::string proj = ortho ? "ortho" : "perspective";
+    add_kernel(s, fns, "primitive_bound_" + proj);
+    add_kernel(s, fns, "sphere_vertex_" + proj);
     const char* q = ortho ? "" : "flat ";
     const char* vq = ortho ? "flat " : "";
     std::ostringstream m;
     m << record_glsl;
+    m << "uniform mat4 qc_view;\nuniform mat4 qc_projection;\nuniform mat3 qc_view_rot_inv;\nuniform vec3 qc_eye;\n"
+         "uniform vec3 qc_near_corners[4];  // view space, used when the eye is inside a bounding sphere\n"
+         "uniform uint qc_first;\n\n"
+         "flat out float qc_radius;\nflat out vec3 qc_prim_color;\n"
+      << q << "out vec3 qc_o;\n" << vq << "out vec3 qc_v;\n\n";
+    m << fns.str();
+    m << "// Indexed draw: vertex 4 i + k is corner k of primitive qc_first + i (two triangles share two).\n"
+         "void main()\n{\n"
+         "    uint prim = qc_first + uint(gl_VertexID) / 4u;\n"
+         "    int k = gl_VertexID % 4;\n"
+         "    qc_Primitive p = qc_prims[prim];\n"
+         "    vec3 c0, c1, c2, c3;\n    bool valid;\n"
+         "    qc_primitive_bound_" << proj << "(qc_view, p.center.xyz, p.q2.z, c0, c1, c2, c3, valid);\n"
+         "    vec3 corners[4] = vec3[4](c0, c1, c2, c3);\n"
+         "    vec3 corner = valid ? corners[k] : qc_near_corners[k];\n"
+         "    qc_sphere_vertex_" << proj << "(p.center.xyz, corner, qc_view_rot_inv, qc_eye, qc_o, qc_v);\n"
+         "    qc_radius = p.q2.z;\n"
+         "    qc_prim_color = p.color.rgb;\n"
+         "    gl_Position = qc_projection * vec4(corner, 1.0);\n"
+         "}\n";
+    s.text = m.str();
+    return s;
+}
+
+/// The quadric pass: forward (cast and shade) or, with `gbuffer`, cast and write the geometry
+/// buffer of the deferred pass (Sigg et al. 2006, sec. 4): normal and window depth, ray direction
+/// (the shading's eye vector) and colour.
+/// With `env`, forward shading mixes in the environment reflection (`qc_reflect_environment`).
+Stage fragment_shader(const std::string& variant, bool ortho, bool gbuffer = false, bool brute = false, bool env = false) {
+    Stage s;
+    const bool planes = variant.rfind("planes", 0) == 0;
+    const bool sphere = variant.rfind("sphere", 0) == 0;  // radius, colour, o, v from the vertex stage
+    std::ostringstream fns;
+    if (brute) add_kernel(s, fns, "pixel_ray");
+    add_kernel(s, fns, "fragment_" + variant + (brute ? "_brute" : ""));
+    if (!gbuffer) add_kernel(s, fns, "shade_blinn_phong");
+    if (env) {
+        add_kernel(s, fns, "environment_texel");
+        add_kernel(s, fns, "environment_mix");
+        fns << environment_glsl;
+    }
+    const char* q = ortho ? "" : "flat ";
+    const char* vq = ortho ? "flat " : "";
+    std::ostringstream m;
+    if (!sphere) m << record_glsl;
     if (planes)
         m << "// Clip planes of the `planes` variant, one set per primitive of the draw (index prim - qc_first).\n"
              "struct qc_Planes { vec4 p[4]; };\n"
@@ -114,8 +165,12 @@ Stage fragment_shader(const std::string& variant, bool ortho, bool gbuffer = fal
     if (!gbuffer)
         m << "uniform vec3 qc_light_dir;    // towards the scene\nuniform vec3 qc_light_color;\n"
              "uniform vec4 qc_material;     // ambient, diffuse, specular, shininess\n";
-    m << "\nflat in uint qc_prim;\n"
-      << q << "in vec3 qc_o;\n" << vq << "in vec3 qc_v;\n" << q << "in vec3 qc_g;\n" << vq << "in vec3 qc_a;\n";
+    if (env) m << environment_uniforms;
+    if (sphere)
+        m << "\nflat in float qc_radius;\nflat in vec3 qc_prim_color;\n" << q << "in vec3 qc_o;\n" << vq << "in vec3 qc_v;\n";
+    else
+        m << "\nflat in uint qc_prim;\n"
+          << q << "in vec3 qc_o;\n" << vq << "in vec3 qc_v;\n" << q << "in vec3 qc_g;\n" << vq << "in vec3 qc_a;\n";
     if (gbuffer)
         m << "layout(location = 0) out vec4 qc_gnormal;  // normal (unnormalised), window depth\n"
              "layout(location = 1) out vec4 qc_gview;    // ray direction, 1 (covered)\n"
@@ -124,25 +179,30 @@ Stage fragment_shader(const std::string& variant, bool ortho, bool gbuffer = fal
         m << "layout(location = 0) out vec4 qc_color;\n\n";
     m << fns.str();
     m << "void main()\n{\n"
-         "    qc_Primitive p = qc_prims[qc_prim];\n"
-         "    bool hit;\n    float depth;\n    vec3 n;\n";
+      << (sphere ? "" : "    qc_Primitive p = qc_prims[qc_prim];\n")
+      << "    bool hit;\n    float depth;\n    vec3 n;\n";
     if (brute)
         m << "    vec3 ro, rd;\n"
              "    qc_pixel_ray(qc_inv_view_proj, qc_eye, gl_FragCoord.xy, qc_viewport, ro, rd);\n";
     const char* eye_vec = brute ? "rd" : "qc_v";
-    m << "    qc_fragment_" << variant << (brute ? "_brute" : "") << "(qc_record_quadric(p), p.center.xyz, p.q2.z, p.axis.xyz, p.q2.w,\n"
-      << (planes ? "        qc_planes[qc_prim - qc_first].p[0], qc_planes[qc_prim - qc_first].p[1], qc_planes[qc_prim - qc_first].p[2], qc_planes[qc_prim - qc_first].p[3],\n" : "")
-      << (brute ? "        ro, rd, qc_vz_row, qc_pz, hit, depth, n);\n" : "        qc_o, qc_v, qc_g, qc_a, qc_vz_row, qc_pz, hit, depth, n);\n")
-      << "    if (!hit) discard;\n"
+    const char* color = sphere ? "qc_prim_color" : "p.color.rgb";
+    if (sphere)
+        m << "    qc_fragment_" << variant << "(qc_radius, qc_o, qc_v, qc_vz_row, qc_pz, hit, depth, n);\n";
+    else
+        m << "    qc_fragment_" << variant << (brute ? "_brute" : "") << "(qc_record_quadric(p), p.center.xyz, p.q2.z, p.axis.xyz, p.q2.w,\n"
+          << (planes ? "        qc_planes[qc_prim - qc_first].p[0], qc_planes[qc_prim - qc_first].p[1], qc_planes[qc_prim - qc_first].p[2], qc_planes[qc_prim - qc_first].p[3],\n" : "")
+          << (brute ? "        ro, rd, qc_vz_row, qc_pz, hit, depth, n);\n" : "        qc_o, qc_v, qc_g, qc_a, qc_vz_row, qc_pz, hit, depth, n);\n");
+    m << "    if (!hit) discard;\n"
          "    gl_FragDepth = depth;\n";
     if (gbuffer)
         m << "    qc_gnormal = vec4(n, depth);\n"
              "    qc_gview = vec4(" << eye_vec << ", 1.0);\n"
-          << "    qc_gcolor = vec4(p.color.rgb, 1.0);\n"
+          << "    qc_gcolor = vec4(" << color << ", 1.0);\n"
              "}\n";
     else
         m << "    vec3 rgb;\n"
-             "    qc_shade_blinn_phong(n, -qc_light_dir, -" << eye_vec << ", p.color.rgb, qc_light_color, qc_material, rgb);\n"
+             "    qc_shade_blinn_phong(n, -qc_light_dir, -" << eye_vec << ", " << color << ", qc_light_color, qc_material, rgb);\n"
+          << (env ? std::string("    rgb = qc_reflect_environment(rgb, n, -") + eye_vec + ");\n" : std::string())
           << "    qc_color = vec4(rgb, 1.0);\n"
              "}\n";
     s.text = m.str();
@@ -159,8 +219,9 @@ const char* fullscreen_vertex =
 /// The deferred pass (Sigg et al. 2006, sec. 4): per pixel, Blinn-Phong from the geometry buffer
 /// (`shade_blinn_phong` with the same arguments as the forward pass: bit-identical colour), the
 /// background where nothing was hit; with `silhouettes` the outline of `silhouette` from the 3x3
-/// neighbourhood (texel coordinates clamped to the image).
-Stage deferred_shader(bool silhouettes, bool shadows) {
+/// neighbourhood (texel coordinates clamped to the image); with `env` the environment reflection
+/// mixed into the shaded colour before the outline.
+Stage deferred_shader(bool silhouettes, bool shadows, bool env) {
     Stage s;
     std::ostringstream fns;
     add_kernel(s, fns, shadows ? "shade_blinn_phong_shadowed" : "shade_blinn_phong");
@@ -169,6 +230,11 @@ Stage deferred_shader(bool silhouettes, bool shadows) {
         add_kernel(s, fns, "shadow_coord");
         add_kernel(s, fns, "pcf_first8");
         add_kernel(s, fns, "pcf64");
+    }
+    if (env) {
+        add_kernel(s, fns, "environment_texel");
+        add_kernel(s, fns, "environment_mix");
+        fns << environment_glsl;
     }
     std::ostringstream m;
     m << "layout(binding = 0) uniform sampler2D qc_gnormal;  // normal, window depth (1 = background)\n"
@@ -192,6 +258,7 @@ Stage deferred_shader(bool silhouettes, bool shadows) {
         for (int i = 0; i < 64; ++i) m << (i ? ", " : "") << pcf_grid_order[i];
         m << ");\n";
     }
+    if (env) m << environment_uniforms;
     m << "layout(location = 0) out vec4 qc_color;\n\n";
     m << fns.str();
     if (shadows)
@@ -225,6 +292,7 @@ Stage deferred_shader(bool silhouettes, bool shadows) {
     } else {
         m << "        qc_shade_blinn_phong(gn.xyz, -qc_light_dir, -gv.xyz, texelFetch(qc_gcolor, px, 0).rgb, qc_light_color, qc_material, rgb);\n";
     }
+    if (env) m << "        rgb = qc_reflect_environment(rgb, gn.xyz, -gv.xyz);\n";
     m << "    }\n";
     if (silhouettes) {
         m << "    ivec2 last = textureSize(qc_gnormal, 0) - 1;\n"
@@ -252,11 +320,19 @@ std::vector<StageShader> render_stage_shaders() {
         const std::string vname = "qc_quadric_" + proj + ".vert";
         out.push_back({vname, "glsl/render/" + vname,
                        "#version 450 core\n" + banner("glsl/render/" + vname, v.sources, v.ops, "quadric renderer: vertex stage, " + proj + " camera") + "\n" + v.text});
-        for (const char* variant : {"closed", "closed_nocull", "slab", "slab_nocull", "bounded", "bounded_nocull", "planes", "planes_nocull"}) {
+        const Stage sv = sphere_vertex_shader(ortho);
+        const std::string svname = "qc_sphere_" + proj + ".vert";
+        out.push_back({svname, "glsl/render/" + svname,
+                       "#version 450 core\n" + banner("glsl/render/" + svname, sv.sources, sv.ops, "quadric renderer: vertex stage of the sphere variant, " + proj + " camera") + "\n" + sv.text});
+        for (const char* variant : {"closed", "closed_nocull", "slab", "slab_nocull", "bounded", "bounded_nocull", "planes", "planes_nocull", "sphere", "sphere_nocull"}) {
             const Stage f = fragment_shader(variant, ortho);
             const std::string fname = std::string("qc_quadric_") + variant + "_" + proj + ".frag";
             out.push_back({fname, "glsl/render/" + fname,
                            "#version 450 core\n" + banner("glsl/render/" + fname, f.sources, f.ops, std::string("quadric renderer: fragment stage, ") + variant + ", " + proj + " camera") + "\n" + f.text});
+            const Stage fe = fragment_shader(variant, ortho, false, false, true);
+            const std::string fename = std::string("qc_quadric_") + variant + "_environment_" + proj + ".frag";
+            out.push_back({fename, "glsl/render/" + fename,
+                           "#version 450 core\n" + banner("glsl/render/" + fename, fe.sources, fe.ops, std::string("quadric renderer: fragment stage with environment reflection, ") + variant + ", " + proj + " camera") + "\n" + fe.text});
             const Stage g = fragment_shader(variant, ortho, true);
             const std::string gname = std::string("qc_gbuffer_") + variant + "_" + proj + ".frag";
             out.push_back({gname, "glsl/render/" + gname,
@@ -278,13 +354,14 @@ std::vector<StageShader> render_stage_shaders() {
                        "\nlayout(location = 0) out vec4 qc_color;\n\nvoid main()\n{\n    qc_color = vec4(0.5, 0.5, 0.5, 1.0);\n    gl_FragDepth = gl_FragCoord.z;\n}\n"});
     out.push_back({"qc_fullscreen.vert", "glsl/render/qc_fullscreen.vert",
                    "#version 450 core\n" + banner("glsl/render/qc_fullscreen.vert", "", {}, "deferred shading: full-screen triangle") + "\n" + fullscreen_vertex});
-    for (bool shadows : {false, true})
-        for (bool sil : {false, true}) {
-            const Stage d = deferred_shader(sil, shadows);
-            const std::string dname = std::string("qc_deferred") + (shadows ? "_shadows" : "") + (sil ? "_silhouettes" : "") + ".frag";
-            out.push_back({dname, "glsl/render/" + dname,
-                           "#version 450 core\n" + banner("glsl/render/" + dname, d.sources, d.ops, std::string("deferred shading: Blinn-Phong from the geometry buffer") + (shadows ? ", soft shadows (64-sample PCF, 8-sample early-out)" : "") + (sil ? ", silhouette and crease outlines" : "")) + "\n" + d.text});
-        }
+    for (bool env : {false, true})
+        for (bool shadows : {false, true})
+            for (bool sil : {false, true}) {
+                const Stage d = deferred_shader(sil, shadows, env);
+                const std::string dname = std::string("qc_deferred") + (shadows ? "_shadows" : "") + (sil ? "_silhouettes" : "") + (env ? "_environment" : "") + ".frag";
+                out.push_back({dname, "glsl/render/" + dname,
+                               "#version 450 core\n" + banner("glsl/render/" + dname, d.sources, d.ops, std::string("deferred shading: Blinn-Phong from the geometry buffer") + (shadows ? ", soft shadows (64-sample PCF, 8-sample early-out)" : "") + (sil ? ", silhouette and crease outlines" : "") + (env ? ", environment reflection" : "")) + "\n" + d.text});
+            }
     return out;
 }
 

@@ -19,6 +19,18 @@ void add_bench_spheres(CLI::App& bench);
 void add_bench_culling(CLI::App& bench);
 /// `quadcast bench fragments`: incremental vs brute-force vs pass-through fragment stage.
 void add_bench_fragments(CLI::App& bench);
+/// `quadcast bench meshes`: sphere impostors against tessellated spheres of equal outline error.
+void add_bench_meshes(CLI::App& bench);
+/// `quadcast bench spline-error`: isosurface position error vs frame time of QSS, S31, trilinear
+/// and marching cubes on analytic functions (bench_spline_error.cpp).
+void add_bench_spline_error(CLI::App& bench);
+/// `quadcast bench spline-preprocess`: determining sets, coefficient ranges, octree and memory per
+/// data set (the shape of Kalbe & Zeilfelder 2008, Table 1).
+void add_bench_spline_preprocess(CLI::App& bench);
+
+/// `quadcast bench isosurfaces`: GL isosurfaces (QSS, S31, trilinear) against the CPU reference,
+/// and what the octree, frustum and per-tetrahedron culling skip.
+void add_bench_isosurfaces(CLI::App& bench);
 
 /// `quadcast render SCENE.json -o out.png`: renders a scene with GL (or the CPU reference).
 void add_render(CLI::App& app);

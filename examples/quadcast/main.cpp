@@ -16,6 +16,10 @@ int main(int argc, char** argv) {
     quadcast::cli::add_bench_spheres(*bench);
     quadcast::cli::add_bench_culling(*bench);
     quadcast::cli::add_bench_fragments(*bench);
+    quadcast::cli::add_bench_meshes(*bench);
+    quadcast::cli::add_bench_spline_error(*bench);
+    quadcast::cli::add_bench_spline_preprocess(*bench);
+    quadcast::cli::add_bench_isosurfaces(*bench);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

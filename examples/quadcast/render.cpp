@@ -10,6 +10,7 @@
 #include "commands.hpp"
 #include "diagnostics.hpp"
 #include "image_io.hpp"
+#include "quadcast/gl/isosurface_renderer.hpp"
 #include "quadcast/gl/osmesa_context.hpp"
 #include "quadcast/gl/quadric_renderer.hpp"
 #include "quadcast/render/cpu_renderer.hpp"
@@ -56,8 +57,10 @@ scene::Aabb volume_box(const scene::Volume& v) {
     return b;
 }
 
-/// The scene's volumes, loaded and prepared for the CPU spline renderer.
-std::vector<render::VolumeModel> prepare_volumes(const scene::Scene& sc) {
+/// The scene's volumes, loaded and prepared for the GL isosurface renderer or, with `cpu`, the
+/// CPU reference renderer (which also keeps every active tetrahedron's coefficients). Long
+/// preparations report progress on stderr.
+std::vector<render::VolumeModel> prepare_volumes(const scene::Scene& sc, bool cpu) {
     std::vector<render::VolumeModel> out;
     for (const scene::Volume& v : sc.volumes) {
         volume::VolumeRequest req;
@@ -69,20 +72,38 @@ std::vector<render::VolumeModel> prepare_volumes(const scene::Scene& sc) {
         const render::VolumeScheme scheme = v.scheme == scene::Volume::Scheme::s31         ? render::VolumeScheme::s31
                                             : v.scheme == scene::Volume::Scheme::trilinear ? render::VolumeScheme::trilinear
                                                                                            : render::VolumeScheme::qss;
-        out.push_back(render::prepare_volume(d.grid, d.origin, d.spacing, scheme, float(v.iso), cast<float>(v.material.color)));
+        // Progress in steps of 10% for volumes of more than 4M samples
+        const bool big = double(d.nx()) * d.ny() * d.nz() > 4e6;
+        int shown = 0;
+        const render::ProgressFn progress = [&](double f) {
+            const int step = int(f * 10.0);
+            if (!big || step <= shown) return;
+            shown = step;
+            std::fprintf(stderr, "%s: preparing %s (%dx%dx%d, %s): %d%%\n", sc.source.string().c_str(), v.input.c_str(), d.nx(), d.ny(), d.nz(),
+                         render::volume_scheme_name(scheme), 10 * step);
+        };
+        out.push_back(render::prepare_volume(d.grid, d.origin, d.spacing, scheme, float(v.iso), cast<float>(v.material.color), 0, cpu, progress));
     }
     return out;
 }
 
-/// Renders the volumes with the CPU spline renderer and composites them onto `img` by depth
-/// (or returns them alone when `img` is empty).
-void draw_volumes(const std::vector<render::VolumeModel>& models, const render::Frame& fr, render::Image& img) {
-    if (models.empty()) return;
+std::size_t active_cubes(const std::vector<render::VolumeModel>& volumes) {
+    std::size_t n = 0;
+    for (const auto& m : volumes) n += m.active;
+    return n;
+}
+
+/// The CPU reference: primitives (if any), then the volumes composited by depth.
+render::Image render_scene_cpu(const render::Frame& fr, const std::vector<render::VolumeModel>& volumes, render::FrameStats* st) {
+    render::Image img;
+    if (!fr.primitives.empty() || volumes.empty()) img = render::render_cpu(fr.primitives, fr.camera, fr.light, fr.options, st);
+    if (volumes.empty()) return img;
     std::vector<const render::VolumeModel*> ptrs;
-    for (const auto& m : models) ptrs.push_back(&m);
+    for (const auto& m : volumes) ptrs.push_back(&m);
     render::Image v = render::render_volumes_cpu(ptrs, fr.camera, fr.light, fr.options);
-    if (img.rgba.empty()) img = std::move(v);
-    else render::composite_by_depth(img, v);
+    if (img.rgba.empty()) return v;
+    render::composite_by_depth(img, v);
+    return img;
 }
 
 int run_render(const RenderArgs& a) {
@@ -100,50 +121,29 @@ int run_render(const RenderArgs& a) {
     std::vector<render::VolumeModel> volumes;
     try {
         const auto t0 = std::chrono::steady_clock::now();
-        volumes = prepare_volumes(sc);
+        volumes = prepare_volumes(sc, a.cpu);
         if (!volumes.empty())
-            std::fprintf(stderr, "%s: %zu volume(s) prepared in %.1f ms; volumes are drawn by the CPU spline renderer%s\n", a.scene.c_str(),
-                         volumes.size(), std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count(),
-                         fr.primitives.empty() ? "" : " and composited by depth");
+            std::fprintf(stderr, "%s: %zu volume(s) prepared in %.1f ms, %zu active cubes\n", a.scene.c_str(), volumes.size(),
+                         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count(), active_cubes(volumes));
     } catch (const std::exception& e) {
         std::cerr << "quadcast render: " << e.what() << "\n";
         return 1;
     }
     render::Image img;
-    if (!volumes.empty() && fr.primitives.empty()) {
-        // Volumes only: no GL context needed
-        draw_volumes(volumes, fr, img);
-        if (a.frames > 0) {
-            std::vector<double> ms;
-            for (int i = 0; i < a.frames; ++i) {
-                const auto t0 = std::chrono::steady_clock::now();
-                render::Image tmp;
-                draw_volumes(volumes, fr, tmp);
-                ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
-            }
-            std::size_t active = 0;
-            for (const auto& m : volumes) active += m.active;
-            std::printf("%s: %zu volume(s) (%s), %zu active cubes, %dx%d, median frame %.2f ms over %d frames (CPU spline renderer)\n",
-                        a.scene.c_str(), volumes.size(), render::volume_scheme_name(volumes.front().scheme), active, a.width, a.height,
-                        median(ms), a.frames);
-        }
-        return write_outputs(a, img);
-    }
     if (a.cpu) {
         render::FrameStats st;
-        img = render::render_cpu(fr.primitives, fr.camera, fr.light, fr.options, &st);
+        img = render_scene_cpu(fr, volumes, &st);
         if (a.frames > 0) {
             std::vector<double> ms;
             for (int i = 0; i < a.frames; ++i) {
                 const auto t0 = std::chrono::steady_clock::now();
-                img = render::render_cpu(fr.primitives, fr.camera, fr.light, fr.options);
+                img = render_scene_cpu(fr, volumes, nullptr);
                 ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
             }
-            std::printf("%s: %zu primitives, %dx%d, median frame %.2f ms over %d frames (CPU reference), %llu casts, %llu culled\n", a.scene.c_str(),
-                        fr.primitives.size(), a.width, a.height, median(ms), a.frames, static_cast<unsigned long long>(st.fragments),
-                        static_cast<unsigned long long>(st.culled));
+            std::printf("%s: %zu primitives, %zu volume(s) (%zu active cubes), %dx%d, median frame %.2f ms over %d frames (CPU reference), %llu casts, %llu culled\n",
+                        a.scene.c_str(), fr.primitives.size(), volumes.size(), active_cubes(volumes), a.width, a.height, median(ms), a.frames,
+                        static_cast<unsigned long long>(st.fragments), static_cast<unsigned long long>(st.culled));
         }
-        draw_volumes(volumes, fr, img);
         return write_outputs(a, img);
     }
     std::unique_ptr<gl::OsmesaContext> ctx;
@@ -153,21 +153,34 @@ int run_render(const RenderArgs& a) {
         std::cerr << "quadcast render: " << e.what() << " (use --cpu to render without OpenGL)\n";
         return 2;
     }
-    gl::QuadricRenderer r(ctx->api());
-    r.set_primitives(fr.primitives);
-    r.draw(fr.camera, fr.light, fr.options);  // warm-up: compiles the variants the scene uses
-    if (a.frames > 0) {
-        std::vector<double> ms;
-        for (int i = 0; i < a.frames; ++i) {
-            const auto t0 = std::chrono::steady_clock::now();
-            r.draw(fr.camera, fr.light, fr.options);
-            ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+    try {
+        gl::QuadricRenderer r(ctx->api());
+        gl::IsosurfaceRenderer iso(ctx->api());
+        r.set_primitives(fr.primitives);
+        for (const auto& m : volumes) iso.add_volume(m);
+        if (!volumes.empty()) r.add_pass(iso);
+        r.draw(fr.camera, fr.light, fr.options);  // warm-up: compiles the variants the scene uses
+        if (a.frames > 0) {
+            std::vector<double> ms;
+            for (int i = 0; i < a.frames; ++i) {
+                const auto t0 = std::chrono::steady_clock::now();
+                r.draw(fr.camera, fr.light, fr.options);
+                ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+            }
+            std::printf("%s: %zu primitives, %dx%d, median frame %.2f ms over %d frames (%s)\n", a.scene.c_str(), fr.primitives.size(), a.width,
+                        a.height, median(ms), a.frames, ctx->info().renderer.c_str());
+            for (std::size_t i = 0; i < iso.volume_count(); ++i) {
+                const gl::IsoDrawStats& s = iso.stats(i);
+                std::printf("%s: volume %zu (%s): %zu active cubes, %zu in the view frustum, %zu of %zu %s drawn\n", a.scene.c_str(), i,
+                            render::volume_scheme_name(volumes[i].scheme), s.active, s.visible, s.elements, s.relevant,
+                            volumes[i].scheme == render::VolumeScheme::trilinear ? "cells" : "relevant tetrahedra");
+            }
         }
-        std::printf("%s: %zu primitives, %dx%d, median frame %.2f ms over %d frames (%s)\n", a.scene.c_str(), fr.primitives.size(), a.width,
-                    a.height, median(ms), a.frames, ctx->info().renderer.c_str());
+        img = r.read();
+    } catch (const std::exception& e) {
+        std::cerr << "quadcast render: " << e.what() << "\n";
+        return 1;
     }
-    img = r.read();
-    draw_volumes(volumes, fr, img);
     return write_outputs(a, img);
 }
 

@@ -7,6 +7,7 @@
 
 #include <array>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -137,6 +138,14 @@ struct Options {
     bool shadows = false;
     bool silhouettes = false;
     Vec3d background{{1.0, 1.0, 1.0}};
+    /// Environment reflection ("environment": {"file" | "procedural", "reflectivity"}): a
+    /// latitude-longitude PNG (resolved path) or the built-in sky (colours, defaults of
+    /// quadcast::render::ProceduralSky when absent), mixed in by `reflectivity`.
+    enum class Environment { none, file, procedural };
+    Environment environment = Environment::none;
+    std::filesystem::path environment_file;
+    std::optional<Vec3d> sky_zenith, sky_horizon, sky_ground;
+    double reflectivity = 0.3;
 };
 
 /// Axis-aligned box; empty while lo > hi.

@@ -303,14 +303,42 @@ void load_object(Scene& scene, const JsonNode& entry, const std::filesystem::pat
     kind->load(ctx);
 }
 
-Options load_options(const JsonNode& n) {
-    n.expect_keys({"culling", "deferred", "shadows", "silhouettes", "background", "comment"});
+/// "environment": exactly one of "file" (a latitude-longitude PNG, relative to the scene file) or
+/// "procedural" (an object of optional colours "zenith", "horizon", "ground"), and "reflectivity"
+/// in [0, 1].
+void load_environment(const JsonNode& n, Options& o, const std::filesystem::path& base_dir) {
+    n.expect_keys({"file", "procedural", "reflectivity", "comment"});
+    if (n.has("file") == n.has("procedural")) n.fail("an environment has either \"file\" or \"procedural\"");
+    if (const auto f = n.get("file")) {
+        const std::string s = f->string();
+        if (s.empty()) f->fail("empty file name");
+        std::filesystem::path p(s);
+        if (p.is_relative()) p = base_dir / p;
+        p = p.lexically_normal();
+        std::error_code ec;
+        if (!std::filesystem::is_regular_file(p, ec)) f->fail("cannot open '" + p.string() + "': no such file");
+        o.environment = Options::Environment::file;
+        o.environment_file = p;
+    } else {
+        const JsonNode sky = n.at("procedural");
+        sky.expect_keys({"zenith", "horizon", "ground", "comment"});
+        o.environment = Options::Environment::procedural;
+        if (const auto c = sky.get("zenith")) o.sky_zenith = c->color();
+        if (const auto c = sky.get("horizon")) o.sky_horizon = c->color();
+        if (const auto c = sky.get("ground")) o.sky_ground = c->color();
+    }
+    if (const auto r = n.get("reflectivity")) o.reflectivity = r->number(Range::unit);
+}
+
+Options load_options(const JsonNode& n, const std::filesystem::path& base_dir) {
+    n.expect_keys({"culling", "deferred", "shadows", "silhouettes", "background", "environment", "comment"});
     Options o;
     if (const auto v = n.get("culling")) o.culling = v->boolean();
     if (const auto v = n.get("deferred")) o.deferred = v->boolean();
     if (const auto v = n.get("shadows")) o.shadows = v->boolean();
     if (const auto v = n.get("silhouettes")) o.silhouettes = v->boolean();
     if (const auto v = n.get("background")) o.background = v->color();
+    if (const auto v = n.get("environment")) load_environment(*v, o, base_dir);
     return o;
 }
 
@@ -404,7 +432,7 @@ Scene parse_scene(std::string text, const std::string& file_name, const std::fil
 
     Scene scene;
     scene.source = file_name;
-    if (const auto o = root.get("options")) scene.options = load_options(*o);
+    if (const auto o = root.get("options")) scene.options = load_options(*o, base_dir);
     const JsonNode objects = root.at("objects");
     for (const JsonNode& entry : objects.array()) load_object(scene, entry, base_dir);
     if (scene.primitive_count() == 0) scene.warnings.push_back(objects.warning("the scene has nothing to draw"));

@@ -409,6 +409,23 @@ RayQuadratic<T> ray_quadratic_incremental(const Quadric<T>& q_local, const Vec3<
     return {c, disc};
 }
 
+/// `ray_quadratic_incremental` for the sphere x.x = r2 in local coordinates (A = I, b = 0,
+/// c = -r2, so g = o and a = v): the same formulas without the quadric's coefficients, the
+/// closed form of the sphere-specialised fragment stage. Same bits as the general form for a
+/// quadric diag(1, 1, 1, -r2) up to the sign of zero terms.
+/// Numerics: alpha = dot(v, v); beta = dot(o, v); gamma = dot(o, o) - r2; lambda0 = -beta /
+/// alpha; x0 = o + lambda0 v; disc = -(alpha (dot(x0, x0) - r2)), or `discriminant_naive` in
+/// the linear case.
+template <class T>
+RayQuadratic<T> ray_quadratic_sphere(const T& r2, const Vec3<T>& o, const Vec3<T>& v) {
+    const RayCoefficients<T> c{dot(v, v), dot(o, v), dot(o, o) - r2};
+    const mask_t<T> geometric = (c.alpha != T(0)) && !is_linear_case(c);
+    const T lambda0 = -c.beta / select(geometric, c.alpha, T(1));
+    const Vec3<T> x0 = o + lambda0 * v;
+    const T disc = select(geometric, -(c.alpha * (dot(x0, x0) - r2)), discriminant_naive(c));
+    return {c, disc};
+}
+
 /// The front-facing root of a `RayQuadratic` (back-face culling on), with the stable formulas.
 template <class T>
 RayHit<T> front_root(const RayQuadratic<T>& r) {

@@ -69,6 +69,9 @@ struct CastOptions {
     bool slab = false;  ///< clip to the slab and close it with caps (cylinders, cones)
     bool bound = true;  ///< clip to the bounding sphere (general quadrics; spheres/ellipsoids need not)
     bool planes = false;  ///< clip to the four planes (tetrahedra, planar quads)
+    /// The sphere x.x = radius^2 (local coordinates) in closed form (`ray_quadratic_sphere`): the
+    /// quadric's coefficients and the ray terms g, a are not read. No clipping.
+    bool sphere = false;
 };
 
 /// A fragment's hit: ray parameter, local position and (unnormalised) outward normal.
@@ -124,13 +127,17 @@ Candidate<T> nearer(const Candidate<T>& a, const Candidate<T>& b) {
 /// - planes: the hit must lie inside the four planes (`inside_tet`).
 /// - slab: the hit must lie in the slab; the caps dot(axis, x) = +-half_length are hit where the
 ///   quadric's inside (f <= 0) is, with normal +-axis; with cull only the caps facing the ray.
+/// - sphere: the quadric is the sphere |x| = radius (`ray_quadratic_sphere`), normal o + lambda v.
 /// The nearest candidate wins. Normal of a quadric hit: A x + b = g + lambda a (eq. 11).
 /// Numerics: see the functions named; the cap parameter is (s h - dot(axis, o)) / dot(axis, v).
 template <CastOptions Opt, class T>
 CastHit<T> cast(const QuadricPrimitive<T>& p, const LocalRay<T>& r) {
     using namespace raycast_detail;
-    const RayQuadratic<T> rq = ray_quadratic_incremental(p.q, r.o, r.v, r.g, r.a);
     const T r2 = p.radius * p.radius;
+    const RayQuadratic<T> rq = [&] {
+        if constexpr (Opt.sphere) return ray_quadratic_sphere(r2, r.o, r.v);
+        else return ray_quadratic_incremental(p.q, r.o, r.v, r.g, r.a);
+    }();
     // The clip of a point at ray parameter lambda.
     auto clip = [&](const T& lambda) {
         const Vec3<T> x = r.o + lambda * r.v;
@@ -141,7 +148,8 @@ CastHit<T> cast(const QuadricPrimitive<T>& p, const LocalRay<T>& r) {
         return in;
     };
     auto quadric_candidate = [&](const T& lambda, const mask_t<T>& valid) {
-        return Candidate<T>{valid && clip(lambda), lambda, r.g + lambda * r.a};
+        if constexpr (Opt.sphere) return Candidate<T>{valid && clip(lambda), lambda, r.o + lambda * r.v};
+        else return Candidate<T>{valid && clip(lambda), lambda, r.g + lambda * r.a};
     };
     // Roots of the quadric, clipped.
     Candidate<T> best{};

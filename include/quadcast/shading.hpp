@@ -150,4 +150,68 @@ Vec3<T> shade_blinn_phong_shadowed(const Vec3<T>& n, const Vec3<T>& l, const Vec
     return shade_blinn_phong(n, l, e, color, light, vec4(material[0], material[1] * vis, material[2] * vis, material[3]));
 }
 
+
+/// Mirror reflection of the view direction about a surface normal, two-sided like
+/// `shade_blinn_phong` (a normal facing away from the eye is flipped). n and e need not be unit
+/// vectors; e points towards the eye. Returns r = 2 (n.e) n - e with n, e normalised: a unit
+/// vector (up to rounding) with the angle of reflection equal to the angle of incidence.
+/// Numerics: e = e / sqrt(e.e), n = n / sqrt(n.n) (`normalize`), then n (2 (n.e)) - e.
+template <class T>
+Vec3<T> reflect_view(const Vec3<T>& n_in, const Vec3<T>& e_in) {
+    const Vec3<T> e = normalize(e_in);
+    const Vec3<T> n0 = normalize(n_in);
+    const Vec3<T> n = select(dot(n0, e) < T(0), -n0, n0);
+    return n * (T(2) * dot(n, e)) - e;
+}
+
+/// atan2(y, x) in (-pi, pi] without the GLSL built-in (whose rounding is not specified): the
+/// octant reduction t = min(|x|, |y|) / max(|x|, |y|) in [0, 1], the polynomial of Abramowitz and
+/// Stegun 4.4.47 (|error| <= 1e-5 rad on [0, 1]), then pi/2 - a where |y| > |x|, pi - a where
+/// x < 0, -a where y < 0. atan2(0, 0) = 0.
+/// Numerics: one division, Horner in t^2 (left to right as written), exact float constants.
+template <class T>
+T atan2_poly(const T& y, const T& x) {
+    const T ax = abs(x), ay = abs(y);
+    const T hi = max(ax, ay), lo = min(ax, ay);
+    const T t = lo / select(hi > T(0), hi, T(1));
+    const T s = t * t;
+    const T p = (((T(0.0208351) * s - T(0.0851330)) * s + T(0.1801410)) * s - T(0.3302995)) * s + T(0.9998660);
+    const T a0 = t * p;
+    const T a1 = select(ay > ax, T(1.57079632679489662) - a0, a0);
+    const T a2 = select(x < T(0), T(3.14159265358979324) - a1, a1);
+    return select(y < T(0), -a2, a2);
+}
+
+/// Where a direction r falls in a latitude-longitude (equirectangular) environment image of
+/// size (width, height) texels, in texel units with texel (i, j) centred at (i + 0.5, j + 0.5)
+/// (the centre convention of GL textures): u = 1/2 + atan2(r.x, -r.z) / (2 pi) (the view
+/// direction -z at the middle column, +x to the right), v = 1/2 - atan2(r.y, sqrt(r.x^2 + r.z^2))
+/// / pi (row 0 = straight up), returned as (u width - 1/2, v height - 1/2). r need not be unit.
+/// Numerics: `atan2_poly` twice (the elevation from atan2 rather than acos: well conditioned at
+/// the poles), products with the float-rounded 1/(2 pi) and 1/pi.
+template <class T>
+Vec2<T> latlong_texel(const Vec3<T>& r, const Vec2<T>& size) {
+    const T az = atan2_poly(r[0], -r[2]);
+    const T el = atan2_poly(r[1], sqrt(r[0] * r[0] + r[2] * r[2]));
+    const T u = az * T(0.159154943091895336) + T(0.5);
+    const T v = T(0.5) - el * T(0.318309886183790672);
+    return vec2(u * size[0] - T(0.5), v * size[1] - T(0.5));
+}
+
+/// Environment-map reflection mixed into a shaded colour: the bilinear interpolation of the four
+/// texels around the lookup position `texel` (`latlong_texel`), c00 at base = floor(texel),
+/// c10 one column right, c01 one row down, c11 both (the caller fetches them, wrapping columns and
+/// clamping rows), mixed as rgb (1 - k) + env k with the reflectivity k in [0, 1].
+/// Numerics: f = texel - base (exact for |texel| < 2^23); top = c00 + (c10 - c00) f.x, bottom
+/// likewise, env = top + (bottom - top) f.y; then rgb * (1 - k) + env * k per component.
+template <class T>
+Vec3<T> environment_mix(const Vec3<T>& rgb, const Vec2<T>& texel, const Vec2<T>& base, const Vec3<T>& c00, const Vec3<T>& c10,
+                        const Vec3<T>& c01, const Vec3<T>& c11, const T& k) {
+    const T fx = texel[0] - base[0], fy = texel[1] - base[1];
+    const Vec3<T> top = c00 + (c10 - c00) * fx;
+    const Vec3<T> bottom = c01 + (c11 - c01) * fx;
+    const Vec3<T> env = top + (bottom - top) * fy;
+    return rgb * (T(1) - k) + env * k;
+}
+
 }  // namespace quadcast

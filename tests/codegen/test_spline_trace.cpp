@@ -96,7 +96,7 @@ TEST_CASE("every registered spline and BB kernel's trace computes the float inst
         CAPTURE(k.name);
         CHECK(trace_mismatches(k, 4000, 3) == 0);
     }
-    CHECK(kernels == 14);  // 11 + spline_piece_hit_q2/q3 + trilinear_cell_hit (quadcast/spline/raycast.hpp)
+    CHECK(kernels == 19);  // 11 + spline_piece_hit_q2/q3 + trilinear_cell_hit (quadcast/spline/raycast.hpp) + the isosurface renderer's 5 (quadcast/spline/render.hpp)
 }
 
 TEST_CASE("the rest of the spline templates trace too, for every tetrahedron position class") {

@@ -212,3 +212,33 @@ TEST_CASE("Marschner-Lobb at rho = 0.5 renders without holes and with depth of t
         CHECK_MESSAGE(holes == 0, std::string(volume_scheme_name(s)), ": ", holes, " holes");
     }
 }
+
+TEST_CASE("the data bound of a stencil contains every BB-coefficient of the cube (the preparation's cheap skip test)") {
+    namespace det = quadcast::render::spline_cpu_detail;
+    CHECK(det::negative_weight<2>() == doctest::Approx(1.0 / 16.0));
+    CHECK(det::negative_weight<3>() == 0.0);
+    std::mt19937 rng(7);
+    int tight2 = 0;
+    for (int it = 0; it < 2000; ++it) {
+        spl::Stencil<float> f{};
+        const int kind = it % 3;
+        for (int s = 0; s < spl::stencil_size; ++s)
+            f[s] = kind == 0 ? float(std::uniform_real_distribution<double>(-1, 1)(rng))
+                 : kind == 1 ? float(std::uniform_int_distribution<int>(0, 1)(rng) * 255)
+                             : float(1e4 + std::uniform_real_distribution<double>(0, 1)(rng));
+        const spl::Range<float> b2 = det::data_bound<2>(f), b3 = det::data_bound<3>(f);
+        spl::DeterminingSet<float, 2> d2{};
+        spl::DeterminingSet<float, 3> d3{};
+        const auto e2 = spl::determining_set_from_stencil<2>(quadcast::cast<double>(f));
+        const auto e3 = spl::determining_set_from_stencil<3>(quadcast::cast<double>(f));
+        for (int n = 0; n < spl::d_count(2); ++n) d2[n] = float(e2[n]);
+        for (int n = 0; n < spl::d_count(3); ++n) d3[n] = float(e3[n]);
+        for (float v : spl::cube_coefficients<2>(d2).value) {
+            REQUIRE(b2.contains(v));
+            tight2 += v < *std::min_element(f.c, f.c + spl::stencil_size);
+        }
+        for (float v : spl::cube_coefficients<3>(d3).value) REQUIRE(b3.contains(v));
+    }
+    std::printf("[spline render] data bound: QSS coefficients below the data minimum in %d cases (the bound's widening is needed)\n", tight2);
+    CHECK(tight2 > 0);
+}

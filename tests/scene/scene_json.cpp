@@ -421,3 +421,30 @@ TEST_CASE("randomly corrupted scene text never crashes: it loads or throws Parse
     CHECK(ok > 10);
     CHECK(errors > 10);
 }
+
+TEST_CASE("options.environment: a file relative to the scene or the procedural sky, a reflectivity in [0, 1]") {
+    TempDir dir;
+    dir.write("sky.png", "not read by the loader");
+    Scene s = parse(R"({"objects": [], "options": {"environment": {"file": "sky.png", "reflectivity": 0.5}}})", dir.path);
+    CHECK(s.options.environment == Options::Environment::file);
+    CHECK(s.options.environment_file == (dir.path / "sky.png").lexically_normal());
+    CHECK(s.options.reflectivity == 0.5);
+    s = parse(R"({"objects": [], "options": {"environment": {"procedural": {"zenith": [0, 0, 1]}}}})");
+    CHECK(s.options.environment == Options::Environment::procedural);
+    REQUIRE(s.options.sky_zenith.has_value());
+    CHECK((*s.options.sky_zenith)[2] == 1.0);
+    CHECK_FALSE(s.options.sky_ground.has_value());
+    CHECK(s.options.reflectivity == 0.3);
+    CHECK(parse(R"({"objects": []})").options.environment == Options::Environment::none);
+
+    ParseError e = error_of(R"({"objects": [], "options": {"environment": {"reflectivity": 0.5}}})");
+    CHECK(e.field() == "/options/environment");
+    CHECK(e.message().find("either \"file\" or \"procedural\"") != std::string::npos);
+    e = error_of(R"({"objects": [], "options": {"environment": {"file": "nope.png"}}})", dir.path);
+    CHECK(e.field() == "/options/environment/file");
+    CHECK(e.message().find("no such file") != std::string::npos);
+    e = error_of(R"({"objects": [], "options": {"environment": {"procedural": {}, "reflectivity": 1.5}}})");
+    CHECK(e.field() == "/options/environment/reflectivity");
+    e = error_of(R"({"objects": [], "options": {"environment": {"procedural": {"sky": [0, 0, 1]}}}})");
+    CHECK(e.field() == "/options/environment/procedural/sky");
+}

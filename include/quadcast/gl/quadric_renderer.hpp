@@ -18,8 +18,10 @@
 #include <vector>
 
 #include "quadcast/generated/shaders.hpp"
+#include "quadcast/gl/framebuffer.hpp"
 #include "quadcast/gl/loader.hpp"
 #include "quadcast/gl/program.hpp"
+#include "quadcast/gl/scene_pass.hpp"
 #include "quadcast/render/cpu_renderer.hpp"
 #include "quadcast/render/types.hpp"
 
@@ -58,6 +60,7 @@ public:
         api.GenBuffers(1, &indices_);
     }
     ~QuadricRenderer() {
+        if (etex_) api_->DeleteTextures(1, &etex_);
         release_shadow_map();
         release_fbo();
         api_->DeleteBuffers(1, &ssbo_);
@@ -82,6 +85,10 @@ public:
     void set_depth_test(bool on) { depth_test_ = on; }
     /// Samples that passed (GL_SAMPLES_PASSED) in the primitive pass of the last `draw`.
     std::uint64_t samples_passed() const { return samples_passed_; }
+    /// Other geometry (e.g. isosurfaces) drawn in every pass after the primitives; `p` must
+    /// outlive its use here. `clear_passes` removes them.
+    void add_pass(ScenePass& p) { passes_.push_back(&p); }
+    void clear_passes() { passes_.clear(); }
 
     /// Uploads the primitives (grouped by variant). Call again when they change.
     void set_primitives(const std::vector<render::Primitive>& prims) {
@@ -125,13 +132,25 @@ public:
     void draw(const render::Camera& cam, const render::Light& light, const render::RenderOptions& opt) {
         const Api& gl = *api_;
         ensure_fbo(opt.width, opt.height);
-        const bool deferred = opt.deferred || opt.silhouettes || opt.shadows;
+        // Other passes shade forward without environment reflection: with an environment they
+        // go through the geometry buffer (the same image for the primitives).
+        const bool deferred = opt.deferred || opt.silhouettes || opt.shadows || (opt.environment && !passes_.empty());
+        if (opt.environment) ensure_environment(opt.environment);
         gl.BindVertexArray(vao_);
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, ssbo_);
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, planes_);
         if (opt.shadows) {
             // Shadow map: the geometry-buffer programs from the light camera, depth only.
-            light_cam_ = render::light_camera(prims_, light);
+            Vec3<double> lo{{1e300, 1e300, 1e300}}, hi{{-1e300, -1e300, -1e300}};
+            for (const ScenePass* p : passes_) {
+                Vec3<double> plo{}, phi{};
+                p->bounds(plo, phi);
+                for (int i = 0; i < 3; ++i) {
+                    lo[i] = std::min(lo[i], plo[i]);
+                    hi[i] = std::max(hi[i], phi[i]);
+                }
+            }
+            light_cam_ = render::light_camera(prims_, light, lo, hi);
             ensure_shadow_map(opt.shadow_map_size);
             gl.BindFramebuffer(GL_FRAMEBUFFER, sfbo_);
             gl.Viewport(0, 0, shadow_size_, shadow_size_);
@@ -176,59 +195,48 @@ public:
     }
 
     /// Draws every variant's primitives with the forward or geometry-buffer programs into the
-    /// bound framebuffer (VAO and buffers bound).
+    /// bound framebuffer, then the other passes (`add_pass`).
     void draw_primitives(const render::Camera& cam, const render::Light& light, const render::RenderOptions& opt, bool deferred) {
         const Api& gl = *api_;
+        gl.BindVertexArray(vao_);
+        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, ssbo_);
+        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, planes_);
         for (int v = 0; v < render::variant_count; ++v) {
             if (ranges_[v].second == 0) continue;
-            const Program& prog = program(static_cast<render::Variant>(v), opt.culling, cam.orthographic, deferred);
+            const Program& prog = program(static_cast<render::Variant>(v), opt.culling, cam.orthographic, deferred, opt.environment != nullptr);
             gl.UseProgram(prog.id());
             set_uniforms(prog, cam, light, opt);
             gl.Uniform1ui(prog.uniform_location("qc_first"), ranges_[v].first);
             gl.Uniform1i(prog.uniform_location("qc_caps"), static_cast<render::Variant>(v) == render::Variant::slab ? 1 : 0);
             gl.DrawElements(GL_TRIANGLES, static_cast<GLsizei>(6 * ranges_[v].second), GL_UNSIGNED_INT, nullptr);
         }
+        gl.BindTextureUnit(4, 0);
+        for (ScenePass* p : passes_) p->draw(cam, light, opt, deferred);
     }
 
     /// Reads back the last frame (rows top first, like the CPU renderer).
     render::Image read() const {
-        const Api& gl = *api_;
-        render::Image img;
-        img.width = width_;
-        img.height = height_;
-        std::vector<std::uint8_t> rgba(static_cast<std::size_t>(width_) * height_ * 4);
-        std::vector<float> depth(static_cast<std::size_t>(width_) * height_);
-        gl.BindFramebuffer(GL_READ_FRAMEBUFFER, fbo_);
-        gl.PixelStorei(GL_PACK_ALIGNMENT, 1);
-        gl.ReadPixels(0, 0, width_, height_, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
-        gl.ReadPixels(0, 0, width_, height_, GL_DEPTH_COMPONENT, GL_FLOAT, depth.data());
-        gl.BindFramebuffer(GL_READ_FRAMEBUFFER, 0);
-        img.rgba.resize(rgba.size());
-        img.depth.resize(depth.size());
-        const std::size_t row = static_cast<std::size_t>(width_);
-        for (int y = 0; y < height_; ++y) {
-            const std::size_t src = static_cast<std::size_t>(height_ - 1 - y) * row, dst = static_cast<std::size_t>(y) * row;
-            std::copy_n(rgba.begin() + static_cast<std::ptrdiff_t>(src * 4), row * 4, img.rgba.begin() + static_cast<std::ptrdiff_t>(dst * 4));
-            std::copy_n(depth.begin() + static_cast<std::ptrdiff_t>(src), row, img.depth.begin() + static_cast<std::ptrdiff_t>(dst));
-        }
-        return img;
+        return read_framebuffer(*api_, fbo_, width_, height_);
     }
 
     std::size_t primitive_count() const { return count_; }
 
 private:
-    const Program& program(render::Variant v, bool cull, bool ortho, bool gbuffer = false) {
+    /// env: forward shading with environment reflection (the geometry-buffer programs do not shade).
+    const Program& program(render::Variant v, bool cull, bool ortho, bool gbuffer = false, bool env = false) {
         const std::string variant = std::string(render::variant_name(v)) + (cull ? "" : "_nocull");
         const std::string proj = ortho ? "ortho" : "perspective";
-        const std::string vs = "qc_quadric_" + proj + ".vert";
+        const std::string vs = (v == render::Variant::sphere ? "qc_sphere_" : "qc_quadric_") + proj + ".vert";
         if (stage_ != FragmentStage::incremental && !gbuffer) {
             if (stage_ == FragmentStage::passthrough) return program(vs, "qc_passthrough.frag");
             if (ortho) throw std::runtime_error("quadcast::gl::QuadricRenderer: the brute-force fragment stage needs a perspective camera");
+            if (v == render::Variant::sphere)
+                throw std::runtime_error("quadcast::gl::QuadricRenderer: the brute-force fragment stage has no sphere variant (use Variant::closed)");
             return program(vs, "qc_quadric_" + variant + "_brute_perspective.frag");
         }
         if (stage_ != FragmentStage::incremental && gbuffer)
             throw std::runtime_error("quadcast::gl::QuadricRenderer: the brute-force and pass-through fragment stages shade forward only");
-        const std::string fs = (gbuffer ? "qc_gbuffer_" : "qc_quadric_") + variant + "_" + proj + ".frag";
+        const std::string fs = (gbuffer ? "qc_gbuffer_" : "qc_quadric_") + variant + (env && !gbuffer ? "_environment_" : "_") + proj + ".frag";
         return program(vs, fs);
     }
 
@@ -247,7 +255,8 @@ private:
     /// depth target keeps the quadric pass's depth) shading each pixel from the geometry buffer.
     void shade_deferred(const render::Camera& cam, const render::Light& light, const render::RenderOptions& opt) {
         const Api& gl = *api_;
-        const Program& prog = program("qc_fullscreen.vert", std::string("qc_deferred") + (opt.shadows ? "_shadows" : "") + (opt.silhouettes ? "_silhouettes" : "") + ".frag");
+        const Program& prog = program("qc_fullscreen.vert", std::string("qc_deferred") + (opt.shadows ? "_shadows" : "") + (opt.silhouettes ? "_silhouettes" : "") +
+                                                               (opt.environment ? "_environment" : "") + ".frag");
         gl.BindFramebuffer(GL_FRAMEBUFFER, fbo_);
         gl.Disable(GL_DEPTH_TEST);
         gl.UseProgram(prog.id());
@@ -259,6 +268,10 @@ private:
         gl.Uniform3fv(prog.uniform_location("qc_background"), 1, opt.background.c);
         gl.Uniform4fv(prog.uniform_location("qc_pz"), 1, pz);
         gl.Uniform4fv(prog.uniform_location("qc_silhouette_params"), 1, opt.silhouette.c);
+        if (opt.environment) {
+            gl.BindTextureUnit(4, etex_);
+            gl.Uniform1f(prog.uniform_location("qc_reflectivity"), opt.reflectivity);
+        }
         if (opt.shadows) {
             gl.BindTextureUnit(3, stex_);
             const Mat4<float> m = render::camera_to_light(cam, light_cam_);
@@ -272,7 +285,26 @@ private:
             gl.Uniform1i(prog.uniform_location("qc_pcf_step"), opt.pcf_step);
         }
         gl.DrawArrays(GL_TRIANGLES, 0, 3);
-        for (int i = 0; i < 4; ++i) gl.BindTextureUnit(static_cast<GLuint>(i), 0);
+        for (int i = 0; i < 5; ++i) gl.BindTextureUnit(static_cast<GLuint>(i), 0);
+    }
+
+    /// The environment image as an RGB32F texture (the floats of the map, read with texelFetch:
+    /// no filtering or format conversion), uploaded when the map changes.
+    void ensure_environment(const std::shared_ptr<const render::EnvironmentMap>& env) {
+        if (env == env_) return;
+        const Api& gl = *api_;
+        if (env->width < 1 || env->height < 1 || env->rgb.size() != std::size_t(env->width) * env->height * 3)
+            throw std::invalid_argument("quadcast::gl::QuadricRenderer: environment map size does not match its texels");
+        if (etex_) gl.DeleteTextures(1, &etex_);
+        gl.GenTextures(1, &etex_);
+        gl.BindTexture(GL_TEXTURE_2D, etex_);
+        gl.TexStorage2D(GL_TEXTURE_2D, 1, GL_RGB32F, env->width, env->height);
+        gl.PixelStorei(GL_UNPACK_ALIGNMENT, 4);
+        gl.TexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, env->width, env->height, GL_RGB, GL_FLOAT, env->rgb.data());
+        gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        gl.BindTexture(GL_TEXTURE_2D, 0);
+        env_ = env;
     }
 
     /// The shadow map (DEPTH32F, size x size, no colour), remade when the size changes.
@@ -349,6 +381,10 @@ private:
         gl.Uniform3fv(p.uniform_location("qc_light_dir"), 1, light.direction.c);
         gl.Uniform3fv(p.uniform_location("qc_light_color"), 1, light.color.c);
         gl.Uniform4fv(p.uniform_location("qc_material"), 1, opt.material.c);
+        if (opt.environment) {
+            gl.BindTextureUnit(4, etex_);
+            gl.Uniform1f(p.uniform_location("qc_reflectivity"), opt.reflectivity);
+        }
         if (stage_ == FragmentStage::brute_force) {
             const Mat4<float> ivp = inverse_view_projection(cam);
             gl.UniformMatrix4fv(p.uniform_location("qc_inv_view_proj"), 1, GL_FALSE, &ivp[0][0]);
@@ -449,9 +485,12 @@ private:
     GLuint vao_ = 0, ssbo_ = 0, planes_ = 0, indices_ = 0, fbo_ = 0, tex_[2] = {0, 0};
     GLuint gfbo_ = 0, gtex_[3] = {0, 0, 0};  ///< geometry buffer of deferred shading
     GLuint sfbo_ = 0, stex_ = 0;             ///< shadow map
+    GLuint etex_ = 0;                        ///< environment map
+    std::shared_ptr<const render::EnvironmentMap> env_;  ///< the map in etex_
     int shadow_size_ = 0;
     render::Camera light_cam_;
     std::vector<render::Primitive> prims_;   ///< for fitting the light camera
+    std::vector<ScenePass*> passes_;
     int width_ = 0, height_ = 0;
     std::size_t count_ = 0;
     std::pair<std::uint32_t, std::uint32_t> ranges_[render::variant_count] = {};

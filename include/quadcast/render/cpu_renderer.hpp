@@ -32,6 +32,7 @@
 #include "quadcast/cull.hpp"
 #include "quadcast/linalg.hpp"
 #include "quadcast/raycast.hpp"
+#include "quadcast/render/environment.hpp"
 #include "quadcast/render/types.hpp"
 #include "quadcast/shading.hpp"
 
@@ -173,9 +174,10 @@ inline FrameSetup frame_setup(const Camera& camera, int width, int height) {
 
 /// An orthographic camera looking along light.direction that sees every primitive's bounding
 /// sphere: the sphere around their bounding box (centre c, radius R) seen from c - 2 R dir, a
-/// 2R x 2R window, near R, far 3R. A scene without primitives gets the unit sphere.
-inline Camera light_camera(const std::vector<Primitive>& prims, const Light& light) {
-    Vec3<double> lo{{1e300, 1e300, 1e300}}, hi{{-1e300, -1e300, -1e300}};
+/// 2R x 2R window, near R, far 3R. A scene without primitives gets the unit sphere. The box
+/// [lo, hi] of other geometry (volumes) is included; empty (lo > hi) by default.
+inline Camera light_camera(const std::vector<Primitive>& prims, const Light& light,
+                           Vec3<double> lo = {{1e300, 1e300, 1e300}}, Vec3<double> hi = {{-1e300, -1e300, -1e300}}) {
     for (const Primitive& p : prims) {
         const double r = static_cast<double>(p.shape.radius);
         if (!std::isfinite(r)) continue;
@@ -252,18 +254,21 @@ inline Fragment cast_fragment(const Primitive& p, const PixelRay& ray, const Fra
 /// `cull_sphere(q, o, 0, radius)` with the local eye o = eye - center (`local_ray`'s o).
 /// Not for the `slab` variant: `cull_sphere` tests the quadric alone, but a slab's caps can
 /// face the eye when its wall does not (a cylinder seen end-on from inside its infinite
-/// extension would vanish).
+/// extension would vanish). Not for the `sphere` variant either, as its vertex stage: from outside
+/// a sphere shows its front, from inside the fragment stage finds no front root.
 inline bool culled(const Primitive& p, const FrameSetup& f) {
-    if (f.orthographic) return false;
+    if (f.orthographic || p.variant == Variant::sphere) return false;
     const LocalRay<float> r = local_ray(p.shape, f.eye, vec3(0.0f, 0.0f, -1.0f));
     return p.variant == Variant::slab ? cull_primitive_with_caps(p.shape, r.o) : cull_primitive(p.shape, r.o);
 }
 
 /// The RGBA8 of a fragment: `shade_blinn_phong(n, -light.direction, -dir, color, light.color,
-/// material)` converted as a GL UNORM8 framebuffer does, alpha 255.
+/// material)`, with options.environment its `reflect_environment(..., n, -dir, reflectivity)`,
+/// converted as a GL UNORM8 framebuffer does, alpha 255.
 inline void shade_pixel(const Primitive& p, const Vec3<float>& normal, const Vec3<float>& dir, const Light& light,
                         const RenderOptions& options, std::uint8_t* rgba) {
-    const Vec3<float> c = shade_blinn_phong(normal, -light.direction, -dir, p.color, light.color, options.material);
+    Vec3<float> c = shade_blinn_phong(normal, -light.direction, -dir, p.color, light.color, options.material);
+    if (options.environment) c = reflect_environment(*options.environment, c, normal, -dir, options.reflectivity);
     for (int i = 0; i < 3; ++i) rgba[i] = cpu_detail::to_unorm8(c[i]);
     rgba[3] = 255;
 }
@@ -422,7 +427,8 @@ void parallel_for(int n, int threads, Fn&& fn) {
 /// options.silhouettes: the colours stay float and a post-pass blends the outline of
 /// `silhouette_weight` over the 3x3 neighbourhood of depths and normals (clamped at the border;
 /// background pixels have depth 1 and normal 0), as the GL deferred pass does; options.deferred
-/// changes nothing here (every pixel is shaded once anyway).
+/// changes nothing here (every pixel is shaded once anyway). options.environment: the reflection
+/// is mixed into the shaded colour (before the outline), as both GL paths do.
 /// FrameStats: primitives = input count, culled = per-quadric culled, fragments = cast() calls,
 /// hits = casts with a hit in the depth range (before the depth test).
 inline Image render_cpu(const std::vector<Primitive>& prims, const Camera& camera, const Light& light,
@@ -528,6 +534,8 @@ inline Image render_cpu(const std::vector<Primitive>& prims, const Camera& camer
                         } else {
                             c = shade_blinn_phong(s.normal[k], -light.direction, -s.ray[k].dir, p.color, light.color, options.material);
                         }
+                        if (options.environment)
+                            c = reflect_environment(*options.environment, c, s.normal[k], -s.ray[k].dir, options.reflectivity);
                     }
                     if (options.silhouettes) {
                         // Keep the geometry buffer's normal and the float colour for the outline pass.

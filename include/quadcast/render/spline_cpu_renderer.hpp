@@ -27,7 +27,9 @@
 #include <atomic>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <limits>
+#include <mutex>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -61,10 +63,17 @@ struct VolumeModel {
     /// Splines: per cube (cube-major, i fastest) the slot of its coefficients or -1 (inactive).
     std::vector<std::int32_t> slot;
     /// Splines: per active cube 24 tetrahedra x coefficient_count(q) floats (storage order of
-    /// bb::multi_indices).
+    /// bb::multi_indices); empty when prepared for the GPU renderer only.
     std::vector<float> coeffs;
     /// Splines: per active cube the mask of tetrahedra whose coefficient range contains ρ.
     std::vector<std::uint32_t> tet_mask;
+    /// Splines: per active cube its index (i + nx (j + ny k)) and its determining set
+    /// (`spline::d_count(q)` floats, the order of spline::d_point): what the GPU renderer keeps.
+    std::vector<std::int32_t> cubes;
+    std::vector<float> dsets;
+    /// Min-max octree over the cubes (splines: coefficient ranges, boxes [i-1/2, i+1/2] in index
+    /// space) or the cells (trilinear: sample ranges, boxes [i, i+1]): what the renderers skip.
+    spline::MinMaxOctree<float> octree;
     /// Trilinear: the samples (i fastest) and per cell (i fastest over (nx-1)x(ny-1)x(nz-1))
     /// whether ρ lies in the range of its 8 samples.
     std::vector<float> samples;
@@ -83,46 +92,124 @@ struct VolumeModel {
     }
 };
 
+/// Progress of a long preparation: called with the fraction done (0..1], from any thread, one
+/// call at a time.
+using ProgressFn = std::function<void(double)>;
+
 namespace spline_cpu_detail {
 
+/// The largest total negative weight of a coefficient mask (spec §2.3 / §3.3): 1/16 for QSS
+/// (e.g. c1010 = (... - 8 f ...)/128), 0 for S31 (all weights are non-negative).
 template <int Q>
-void prepare_spline(VolumeModel& m, const spline::Volume<float>& vol, unsigned threads) {
-    constexpr int nc = bb::coefficient_count(Q);
-    const spline::SplineGrid<Q, float> g = spline::build_spline<Q>(vol, Vec<double, 3>{{0.0, 0.0, 0.0}}, 1.0, threads);
-    const std::vector<spline::Range<float>> ranges = spline::cube_coefficient_ranges<Q>(g, threads);
-    m.slot.assign(ranges.size(), -1);
-    std::int32_t n = 0;
-    for (std::size_t c = 0; c < ranges.size(); ++c)
-        if (ranges[c].contains(m.iso)) m.slot[c] = n++;
-    m.active = static_cast<std::size_t>(n);
-    m.coeffs.assign(static_cast<std::size_t>(n) * spline::tets_per_cube * nc, 0.0f);
-    m.tet_mask.assign(static_cast<std::size_t>(n), 0u);
-    spline::parallel_for(g.nz, [&](int k) {
-        for (int c = k * g.nx * g.ny; c < (k + 1) * g.nx * g.ny; ++c) {
-            const std::int32_t s = m.slot[static_cast<std::size_t>(c)];
-            if (s < 0) continue;
-            const spline::DeterminingSet<float, Q> d = g.cube_d(c);
-            std::uint32_t mask = 0;
-            float* out = &m.coeffs[static_cast<std::size_t>(s) * spline::tets_per_cube * nc];
-            for (int t = 0; t < spline::tets_per_cube; ++t) {
-                const bb::BezierTet<float, Q> b = spline::tet_from_determining_set<Q>(d, t);
-                float lo = b[0], hi = b[0];
-                for (int i = 0; i < nc; ++i) {
-                    out[t * nc + i] = b[i];
-                    lo = std::min(lo, b[i]);
-                    hi = std::max(hi, b[i]);
+constexpr double negative_weight() {
+    int worst = 0;
+    for (int n = 0; n < bb::coefficient_count(Q); ++n) {
+        int neg = 0;
+        for (int s = 0; s < spline::stencil_size; ++s) neg += std::max(0, -spline::tet0_mask<Q>(n, s));
+        worst = std::max(worst, neg);
+    }
+    return double(worst) / spline::coefficient_mask_denominator(Q);
+}
+
+/// A range containing every BB-coefficient of the cube with stencil f: the coefficients are
+/// affine combinations of f (weights summing to 1), so they lie in [min f - N w, max f + N w]
+/// with w = max f - min f and N = `negative_weight<Q>()`; widened like the coefficient ranges
+/// (16 ε max(|lo|, |hi|)) for rounding.
+template <int Q>
+spline::Range<float> data_bound(const spline::Stencil<float>& f) {
+    float lo = f[0], hi = f[0];
+    for (int s = 1; s < spline::stencil_size; ++s) {
+        lo = std::min(lo, f[s]);
+        hi = std::max(hi, f[s]);
+    }
+    const double w = double(hi) - double(lo), n = negative_weight<Q>();
+    const double a = double(lo) - n * w, b = double(hi) + n * w;
+    const double widen = 16.0 * double(std::numeric_limits<float>::epsilon()) * std::max(std::abs(a), std::abs(b));
+    return {float(a - widen), float(b + widen)};
+}
+
+/// Streams over the cubes (no whole-volume spline is kept): per cube the determining set from
+/// its stencil (`determining_set_from_stencil` in double, rounded to float once, as
+/// `build_spline`) and its coefficient range (as `cube_coefficient_ranges`, widened alike) --
+/// unless the cheaper `data_bound` already excludes ρ, which then stands for the range -- and for
+/// an active cube (range contains ρ) its determining set, the mask of relevant tetrahedra and,
+/// with `cpu`, the coefficients of its 24 tetrahedra.
+template <int Q>
+void prepare_spline(VolumeModel& m, const spline::Volume<float>& vol, bool cpu, unsigned threads, const ProgressFn& progress) {
+    constexpr int nc = bb::coefficient_count(Q), nd = spline::d_count(Q);
+    struct Slice {
+        std::vector<std::int32_t> cubes;
+        std::vector<float> dsets, coeffs;
+        std::vector<std::uint32_t> mask;
+    };
+    std::vector<Slice> slices(static_cast<std::size_t>(vol.nz));
+    std::vector<spline::Range<float>> ranges(static_cast<std::size_t>(vol.nx) * vol.ny * vol.nz);
+    std::atomic<int> done{0};
+    std::mutex report;
+    spline::parallel_for(vol.nz, [&](int k) {
+        Slice& sl = slices[static_cast<std::size_t>(k)];
+        for (int j = 0; j < vol.ny; ++j)
+            for (int i = 0; i < vol.nx; ++i) {
+                const int c = i + vol.nx * (j + vol.ny * k);
+                const spline::Stencil<float> f = spline::stencil(vol, i, j, k);
+                // Cheap test first: every coefficient lies within the stencil's data range widened
+                // by `negative_weight<Q>()` of its width (`data_bound`); most cubes end here.
+                const spline::Range<float> bound = data_bound<Q>(f);
+                if (!bound.contains(m.iso)) {
+                    ranges[static_cast<std::size_t>(c)] = bound;
+                    continue;
                 }
-                if (lo <= m.iso && m.iso <= hi) mask |= 1u << t;
+                const spline::DeterminingSet<double, Q> dv = spline::determining_set_from_stencil<Q>(cast<double>(f));
+                spline::DeterminingSet<float, Q> d{};
+                for (int n = 0; n < nd; ++n) d[n] = float(dv[n]);
+                const spline::CubeCoefficients<Q, float> cc = spline::cube_coefficients<Q>(d);
+                float lo = cc.value[0], hi = cc.value[0];
+                for (const float& v : cc.value) {
+                    lo = std::min(lo, v);
+                    hi = std::max(hi, v);
+                }
+                const float widen = 16.0f * std::numeric_limits<float>::epsilon() * std::max(std::abs(lo), std::abs(hi));
+                ranges[static_cast<std::size_t>(c)] = {lo - widen, hi + widen};
+                if (!ranges[static_cast<std::size_t>(c)].contains(m.iso)) continue;
+                sl.cubes.push_back(c);
+                sl.dsets.insert(sl.dsets.end(), d.c, d.c + nd);
+                std::uint32_t mask = 0;
+                for (int t = 0; t < spline::tets_per_cube; ++t) {
+                    const bb::BezierTet<float, Q> b = spline::tet_from_determining_set<Q>(d, t);
+                    float blo = b[0], bhi = b[0];
+                    for (int n = 0; n < nc; ++n) {
+                        blo = std::min(blo, b[n]);
+                        bhi = std::max(bhi, b[n]);
+                    }
+                    if (cpu) sl.coeffs.insert(sl.coeffs.end(), b.c, b.c + nc);
+                    if (blo <= m.iso && m.iso <= bhi) mask |= 1u << t;
+                }
+                sl.mask.push_back(mask);
             }
-            m.tet_mask[static_cast<std::size_t>(s)] = mask;
+        const int n = ++done;
+        if (progress) {
+            const std::lock_guard<std::mutex> lock(report);
+            progress(double(n) / vol.nz);
         }
     }, threads);
+    m.slot.assign(ranges.size(), -1);
+    for (Slice& sl : slices) {
+        for (std::size_t n = 0; n < sl.cubes.size(); ++n) m.slot[static_cast<std::size_t>(sl.cubes[n])] = static_cast<std::int32_t>(m.cubes.size() + n);
+        m.cubes.insert(m.cubes.end(), sl.cubes.begin(), sl.cubes.end());
+        m.dsets.insert(m.dsets.end(), sl.dsets.begin(), sl.dsets.end());
+        m.coeffs.insert(m.coeffs.end(), sl.coeffs.begin(), sl.coeffs.end());
+        m.tet_mask.insert(m.tet_mask.end(), sl.mask.begin(), sl.mask.end());
+        sl = Slice{};
+    }
+    m.active = m.cubes.size();
+    m.octree = spline::MinMaxOctree<float>(vol.nx, vol.ny, vol.nz, std::move(ranges), Vec<double, 3>{{0.0, 0.0, 0.0}}, 1.0);
 }
 
 inline void prepare_trilinear(VolumeModel& m, const spline::Volume<float>& vol) {
     m.samples = vol.data;
     const int cx = std::max(0, m.nx - 1), cy = std::max(0, m.ny - 1), cz = std::max(0, m.nz - 1);
     m.cell_active.assign(static_cast<std::size_t>(cx) * cy * cz, 0);
+    std::vector<spline::Range<float>> ranges(m.cell_active.size());
     std::size_t n = 0;
     for (int k = 0; k < cz; ++k)
         for (int j = 0; j < cy; ++j)
@@ -134,10 +221,13 @@ inline void prepare_trilinear(VolumeModel& m, const spline::Volume<float>& vol) 
                     hi = std::max(hi, v);
                 }
                 const bool a = lo <= m.iso && m.iso <= hi;
-                m.cell_active[static_cast<std::size_t>(i) + static_cast<std::size_t>(cx) * (static_cast<std::size_t>(j) + static_cast<std::size_t>(cy) * k)] = a;
+                const std::size_t c = static_cast<std::size_t>(i) + static_cast<std::size_t>(cx) * (static_cast<std::size_t>(j) + static_cast<std::size_t>(cy) * k);
+                m.cell_active[c] = a;
+                ranges[c] = {lo, hi};
                 n += a;
             }
     m.active = n;
+    m.octree = spline::MinMaxOctree<float>(cx, cy, cz, std::move(ranges), Vec<double, 3>{{0.5, 0.5, 0.5}}, 1.0);
 }
 
 /// The barycentric axis directions of the 24 tetrahedra (cube-local frame).
@@ -153,13 +243,16 @@ inline const std::array<Mat<float, 4, 3>, spline::tets_per_cube>& tet_dirs() {
 }  // namespace spline_cpu_detail
 
 /// Prepares `vol` (samples f[i,j,k], world = origin + spacing * (i,j,k)) for rendering the
-/// isosurface `iso` with `scheme`: splines by `build_spline` (clamp-to-edge padding) and the
-/// per-tetrahedron coefficients of the active cubes; trilinear by the active-cell flags.
+/// isosurface `iso` with `scheme`: splines by the determining sets of `build_spline`
+/// (clamp-to-edge padding), kept for the active cubes with, if `cpu_coefficients` (needed by
+/// `render_volumes_cpu`), their per-tetrahedron coefficients; trilinear by the active-cell
+/// flags. Both with the min-max octree. `progress` (optional) reports the fraction of the
+/// spline preparation done.
 /// Throws std::invalid_argument for a non-finite iso or non-positive spacing, or a trilinear
 /// volume with fewer than 2 samples along an axis.
 inline VolumeModel prepare_volume(const spline::Volume<float>& vol, const Vec3<double>& origin, const Vec3<double>& spacing,
                                   VolumeScheme scheme, float iso, const Vec3<float>& color = {{0.8f, 0.8f, 0.8f}},
-                                  unsigned threads = 0) {
+                                  unsigned threads = 0, bool cpu_coefficients = true, const ProgressFn& progress = {}) {
     if (!std::isfinite(iso)) throw std::invalid_argument("quadcast::render::prepare_volume: isovalue is not finite");
     for (int a = 0; a < 3; ++a)
         if (!(spacing[a] > 0) || !std::isfinite(spacing[a]) || !std::isfinite(origin[a]))
@@ -173,8 +266,8 @@ inline VolumeModel prepare_volume(const spline::Volume<float>& vol, const Vec3<d
     m.nx = vol.nx;
     m.ny = vol.ny;
     m.nz = vol.nz;
-    if (scheme == VolumeScheme::qss) spline_cpu_detail::prepare_spline<2>(m, vol, threads);
-    else if (scheme == VolumeScheme::s31) spline_cpu_detail::prepare_spline<3>(m, vol, threads);
+    if (scheme == VolumeScheme::qss) spline_cpu_detail::prepare_spline<2>(m, vol, cpu_coefficients, threads, progress);
+    else if (scheme == VolumeScheme::s31) spline_cpu_detail::prepare_spline<3>(m, vol, cpu_coefficients, threads, progress);
     else {
         if (vol.nx < 2 || vol.ny < 2 || vol.nz < 2)
             throw std::invalid_argument("quadcast::render::prepare_volume: trilinear needs at least 2 samples per axis");
@@ -203,6 +296,8 @@ inline VolumeHit cast_volume_ray(const VolumeModel& m, const Vec3<float>& o, con
                                  double lambda_max, VolumeCastStats* stats = nullptr) {
     VolumeHit none;
     const bool tri = m.scheme == VolumeScheme::trilinear;
+    if (!tri && m.active > 0 && m.coeffs.empty())
+        throw std::invalid_argument("quadcast::render::cast_volume_ray: the volume was prepared without CPU coefficients");
     const int n[3] = {tri ? m.nx - 1 : m.nx, tri ? m.ny - 1 : m.ny, tri ? m.nz - 1 : m.nz};
     const double lo = tri ? 0.0 : -0.5;
     // The ray in index space (double), clipped to the grid box

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -16,17 +17,18 @@ enum class Variant : std::uint8_t {
     slab,          ///< slab with caps (cylinders, cones):                   CastOptions{cull, slab=true,  bound=false}
     bounded,       ///< clipped to its bounding sphere (general quadrics):   CastOptions{cull, slab=false, bound=true}
     planes,        ///< clipped to four planes (bilinear quads, planar quads, tetrahedral patches)
+    sphere,        ///< the sphere |x| = radius in closed form (CastOptions::sphere): no quadric coefficients, no g, a
 };
-inline constexpr int variant_count = 4;
+inline constexpr int variant_count = 5;
 
 /// The CastOptions of a variant.
 constexpr CastOptions cast_options(Variant v, bool cull) {
-    return CastOptions{cull, v == Variant::slab, v == Variant::bounded, v == Variant::planes};
+    return CastOptions{cull, v == Variant::slab, v == Variant::bounded, v == Variant::planes, v == Variant::sphere};
 }
 
-/// Kernel/shader name of a variant: closed, slab, bounded, planes.
+/// Kernel/shader name of a variant: closed, slab, bounded, planes, sphere.
 constexpr const char* variant_name(Variant v) {
-    return v == Variant::closed ? "closed" : v == Variant::slab ? "slab" : v == Variant::bounded ? "bounded" : "planes";
+    return v == Variant::closed ? "closed" : v == Variant::slab ? "slab" : v == Variant::bounded ? "bounded" : v == Variant::planes ? "planes" : "sphere";
 }
 
 /// One primitive to draw, in float as the GPU stores it. Closed and bounded primitives have
@@ -48,8 +50,17 @@ struct Camera {
 };
 
 struct Light {
-    Vec3<float> direction;  ///< towards the scene (as in the JSON scene); shading uses -direction
+    Vec3<float> direction{{-1.0f, -1.0f, -1.0f}};  ///< towards the scene (as in the JSON scene); shading uses -direction
     Vec3<float> color{{1.0f, 1.0f, 1.0f}};
+};
+
+/// A latitude-longitude (equirectangular) environment image for reflections: width x height RGB
+/// texels as floats (8-bit images as c / 255), row 0 = straight up, column 0 = azimuth -pi
+/// (behind the viewer of a camera looking along -z), texel centres at half-integers
+/// (`latlong_texel` in quadcast/shading.hpp). quadcast/render/environment.hpp makes one.
+struct EnvironmentMap {
+    int width = 0, height = 0;
+    std::vector<float> rgb;  ///< 3 floats per texel, rows top first
 };
 
 struct RenderOptions {
@@ -72,6 +83,11 @@ struct RenderOptions {
     int shadow_map_size = 2048;   ///< texels per side
     int pcf_step = 2;             ///< texels between PCF samples (footprint (7 step) x (7 step))
     float shadow_bias = 10.0f;    ///< depth bias in shadow-map texels (light window depth shadow_bias / shadow_map_size)
+    /// Environment reflection (`reflect_environment` in quadcast/render/environment.hpp): the
+    /// mirror direction of the view ray looks up this image (bilinear) and the result is mixed
+    /// into the Blinn-Phong colour by `reflectivity`. None: no reflection.
+    std::shared_ptr<const EnvironmentMap> environment;
+    float reflectivity = 0.3f;    ///< in [0, 1]
 };
 
 /// A rendered frame: RGBA8 (top row first) and window depth (1 = background), same layout.

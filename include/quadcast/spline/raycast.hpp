@@ -28,19 +28,23 @@ struct TetSegment {
 /// Clips the ray beta(s) = beta0 + s delta to the tetrahedron (all beta_m >= 0) and to
 /// [s_min, s_max]: for delta_m > 0 the bound s >= -beta0_m / delta_m, for delta_m < 0 the bound
 /// s <= -beta0_m / delta_m, for delta_m = 0 the ray must have beta0_m >= 0.
-/// Numerics: bound_m = -beta0_m / delta_m (one division, guarded by select); la = beta0 + s_in *
-/// delta, lb = beta0 + s_out * delta componentwise (one mul + one add each).
+/// With `pad`, the tetrahedron is grown to beta_m >= -pad (a renderer that casts the pieces of
+/// one ray independently, with slightly different rounding each, loses no root on a shared face).
+/// Numerics: bound_m = -beta0_m / delta_m (one division, guarded by select; with a pad
+/// -(beta0_m + pad) / delta_m); la = beta0 + s_in * delta, lb = beta0 + s_out * delta
+/// componentwise (one mul + one add each).
 template <class T>
-TetSegment<T> clip_ray_to_tet(const Vec<T, 4>& beta0, const Vec<T, 4>& delta, const T& s_min, const T& s_max) {
+TetSegment<T> clip_ray_to_tet(const Vec<T, 4>& beta0, const Vec<T, 4>& delta, const T& s_min, const T& s_max, const T* pad = nullptr) {
     T s_in = s_min, s_out = s_max;
     mask_t<T> ok = s_min <= s_max;
     for (int m = 0; m < 4; ++m) {
         const mask_t<T> pos = delta[m] > T(0), neg = delta[m] < T(0);
         const mask_t<T> nz = pos || neg;
-        const T bound = -beta0[m] / select(nz, delta[m], T(1));
+        const T b = pad ? beta0[m] + *pad : beta0[m];
+        const T bound = -b / select(nz, delta[m], T(1));
         s_in = select(pos, max(s_in, bound), s_in);
         s_out = select(neg, min(s_out, bound), s_out);
-        ok = ok && (nz || beta0[m] >= T(0));
+        ok = ok && (nz || b >= T(0));
     }
     TetSegment<T> r{};
     r.s_in = s_in;
@@ -76,12 +80,13 @@ bb::UnitRoot<T> first_root(const Vec<T, Q + 1>& r, const T& rho) {
 /// clip to the tetrahedron (`clip_ray_to_tet`), restrict p to the segment [la, lb]
 /// (`bb::restrict_to_segment`, blossoming), the first root of (r - rho) in [0,1] (`first_root`),
 /// hit point lambda = la + t (lb - la), gradient from the (q-1)-th de Casteljau step with the
-/// barycentric axis directions `dirs` (`bb::value_and_partials`, `bb::gradient`).
+/// barycentric axis directions `dirs` (`bb::value_and_partials`, `bb::gradient`); `pad` grows
+/// the tetrahedron as in `clip_ray_to_tet`.
 /// Numerics: s = s_in + t * (s_out - s_in); lambda_m = la_m + t * (lb_m - la_m).
 template <int Q, class T>
 PieceHit<T> intersect_piece(const bb::BezierTet<T, Q>& c, const Vec<T, 4>& beta0, const Vec<T, 4>& delta, const T& s_min,
-                            const T& s_max, const T& rho, const Mat<T, 4, 3>& dirs) {
-    const TetSegment<T> seg = clip_ray_to_tet(beta0, delta, s_min, s_max);
+                            const T& s_max, const T& rho, const Mat<T, 4, 3>& dirs, const T* pad = nullptr) {
+    const TetSegment<T> seg = clip_ray_to_tet(beta0, delta, s_min, s_max, pad);
     const Vec<T, Q + 1> r = bb::restrict_to_segment(c, seg.la, seg.lb);
     const bb::UnitRoot<T> root = first_root<Q>(r, rho);
     const T t = root.t;

@@ -16,4 +16,8 @@ struct StageShader {
 /// one fragment shader per (variant, culling, camera model).
 std::vector<StageShader> render_stage_shaders();
 
+/// The vertex and fragment shaders of the isosurface renderer: per scheme (QSS, S31, trilinear)
+/// and camera model one vertex shader, one forward and one geometry-buffer fragment shader.
+std::vector<StageShader> spline_stage_shaders();
+
 }  // namespace quadcast::codegen

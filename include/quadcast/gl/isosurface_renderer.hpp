@@ -1,0 +1,325 @@
+// quadcast/gl/isosurface_renderer.hpp -- OpenGL 4.5 isosurfaces of QSS / S31 splines and trilinear volumes (generated shaders)
+#pragma once
+// Host-only. Kalbe & Zeilfelder 2008, Sect. 5, on generated shaders:
+// - GPU data: the determining sets of the active cubes (20 or 56 floats each) in a shader storage
+//   buffer, or the samples for trilinear; one record per drawn element (cube index + tetrahedron,
+//   or cell index). No vertex is stored: the geometry is implicit.
+// - Per frame, the min-max octree (coefficient ranges, the convex hull property) and hierarchical
+//   frustum culling select the cubes; every relevant tetrahedron of a selected cube (its own
+//   coefficient range contains ρ) is drawn as its 4 back faces (indexed, 4 vertices), every active
+//   trilinear cell as its box's back faces (8 vertices).
+// - Vertex stage (traced): the tetrahedron's BB-coefficients by repeated averaging from the
+//   determining set seen from that tetrahedron (or, optionally, read from a compute pre-pass that
+//   runs the same averaging once per tetrahedron), the vertex's clip position and the ray terms.
+// - Fragment stage (traced): the interpolated ray is rotated into T_0, clipped by barycentric
+//   coordinates, restricted to a univariate BB-form by blossoming, its first root gives the hit;
+//   depth, normal; forward Blinn-Phong or the quadric renderer's geometry buffer (deferred,
+//   shadows, silhouettes), so it is drawn as a `ScenePass` of a `QuadricRenderer`.
+
+#include <algorithm>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "quadcast/generated/shaders.hpp"
+#include "quadcast/gl/loader.hpp"
+#include "quadcast/gl/program.hpp"
+#include "quadcast/gl/scene_pass.hpp"
+#include "quadcast/render/spline_cpu_renderer.hpp"
+#include "quadcast/render/types.hpp"
+#include "quadcast/spline/masks.hpp"
+
+namespace quadcast::gl {
+
+/// What the last `draw` of one volume selected.
+struct IsoDrawStats {
+    std::size_t active = 0;          ///< active cubes / cells of the volume (range contains ρ)
+    std::size_t visible = 0;         ///< of these, not outside the view frustum
+    std::size_t elements = 0;        ///< tetrahedra / cells drawn
+    std::size_t relevant = 0;        ///< relevant tetrahedra / active cells of the whole volume
+    std::size_t nodes_visited = 0;   ///< octree nodes tested
+};
+
+/// Draws the isosurfaces of prepared volumes (`render::prepare_volume`, with or without CPU
+/// coefficients) into the bound framebuffer. Not thread-safe (GL contexts are not).
+class IsosurfaceRenderer final : public ScenePass {
+public:
+    explicit IsosurfaceRenderer(const Api& api) : api_(&api) { api.GenVertexArrays(1, &vao_); }
+    ~IsosurfaceRenderer() override {
+        for (Volume& v : volumes_) release(v);
+        api_->DeleteVertexArrays(1, &vao_);
+    }
+    IsosurfaceRenderer(const IsosurfaceRenderer&) = delete;
+    IsosurfaceRenderer& operator=(const IsosurfaceRenderer&) = delete;
+
+    /// Frustum culling of the octree nodes (on by default); off draws every relevant element.
+    void set_frustum_culling(bool on) { frustum_culling_ = on; }
+    /// Skipping the tetrahedra of an active cube whose own coefficient range misses ρ (on by
+    /// default); off draws all 24 tetrahedra of every selected cube.
+    void set_tetrahedron_culling(bool on) { tet_culling_ = on; }
+
+    /// Where a tetrahedron's BB-coefficients are rebuilt from the determining set: in the vertex
+    /// stage, once per vertex (the paper's way, default), or in a compute pre-pass once per drawn
+    /// tetrahedron into a storage buffer the vertex stage reads (same traced averaging, same
+    /// numbers; llvmpipe runs vertex shaders on one thread but compute shaders on all).
+    enum class CoefficientStage { vertex, compute };
+    void set_coefficient_stage(CoefficientStage s) { coeff_stage_ = s; }
+
+    /// Adds a volume; `m` must outlive the renderer's use of it (its octree is consulted per
+    /// frame). Uploads its determining sets (or samples). Throws std::invalid_argument for an
+    /// empty or inconsistent model.
+    void add_volume(const render::VolumeModel& m) {
+        const Api& gl = *api_;
+        const bool tri = m.scheme == render::VolumeScheme::trilinear;
+        if (m.nx < 1 || m.ny < 1 || m.nz < 1) throw std::invalid_argument("quadcast::gl::IsosurfaceRenderer: empty volume");
+        if (m.octree.level_count() == 0) throw std::invalid_argument("quadcast::gl::IsosurfaceRenderer: the volume has no octree (not from prepare_volume)");
+        Volume v;
+        v.model = &m;
+        gl.GenBuffers(1, &v.data);
+        gl.GenBuffers(1, &v.elements);
+        gl.GenBuffers(1, &v.indices);
+        gl.GenBuffers(1, &v.coeffs);
+        gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, v.data);
+        if (tri) {
+            const std::size_t n = static_cast<std::size_t>(m.nx) * m.ny * m.nz;
+            if (m.samples.size() != n) throw std::invalid_argument("quadcast::gl::IsosurfaceRenderer: trilinear volume without its samples");
+            upload(GL_SHADER_STORAGE_BUFFER, m.samples);
+        } else {
+            const std::size_t nd = static_cast<std::size_t>(spline::d_count(m.degree()));
+            if (m.dsets.size() != m.cubes.size() * nd || m.tet_mask.size() != m.cubes.size())
+                throw std::invalid_argument("quadcast::gl::IsosurfaceRenderer: spline volume without its determining sets");
+            upload(GL_SHADER_STORAGE_BUFFER, m.dsets);
+            for (std::uint32_t mask : m.tet_mask) v.relevant += static_cast<std::size_t>(__builtin_popcount(mask));
+        }
+        if (tri) v.relevant = m.active;
+        gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
+        volumes_.push_back(v);
+    }
+
+    /// Removes every volume.
+    void clear() {
+        for (Volume& v : volumes_) release(v);
+        volumes_.clear();
+    }
+
+    /// Statistics of volume i in the last `draw`.
+    const IsoDrawStats& stats(std::size_t i) const { return volumes_.at(i).stats; }
+    std::size_t volume_count() const { return volumes_.size(); }
+
+    void draw(const render::Camera& cam, const render::Light& light, const render::RenderOptions& opt, bool gbuffer) override {
+        const Api& gl = *api_;
+        gl.BindVertexArray(vao_);
+        // Back faces only: each covered pixel casts once per element, from the face where the ray
+        // leaves it (the ray's part inside the element comes from clipping).
+        gl.Enable(GL_CULL_FACE);
+        gl.CullFace(GL_FRONT);
+        for (Volume& v : volumes_) draw_volume(v, cam, light, opt, gbuffer);
+        gl.Disable(GL_CULL_FACE);
+        gl.CullFace(GL_BACK);
+        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, 0);
+        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, 0);
+    }
+
+    void bounds(Vec3<double>& lo, Vec3<double>& hi) const override {
+        lo = Vec3<double>{{1e300, 1e300, 1e300}};
+        hi = Vec3<double>{{-1e300, -1e300, -1e300}};
+        for (const Volume& v : volumes_) {
+            Vec3<double> a{}, b{};
+            v.model->world_box(a, b);
+            for (int i = 0; i < 3; ++i) {
+                lo[i] = std::min(lo[i], std::min(a[i], b[i]));
+                hi[i] = std::max(hi[i], std::max(a[i], b[i]));
+            }
+        }
+    }
+
+private:
+    struct Volume {
+        const render::VolumeModel* model = nullptr;
+        GLuint data = 0, elements = 0, indices = 0, coeffs = 0;
+        std::size_t index_capacity = 0;  ///< elements the index buffer covers
+        std::size_t relevant = 0;
+        IsoDrawStats stats;
+    };
+
+    template <class V>
+    void upload(GLenum target, const V& v) {
+        api_->BufferData(target, static_cast<GLsizeiptr>(std::max<std::size_t>(1, v.size()) * sizeof(typename V::value_type)),
+                         v.empty() ? nullptr : v.data(), GL_STATIC_DRAW);
+    }
+
+    void release(Volume& v) {
+        api_->DeleteBuffers(1, &v.data);
+        api_->DeleteBuffers(1, &v.elements);
+        api_->DeleteBuffers(1, &v.indices);
+        api_->DeleteBuffers(1, &v.coeffs);
+        v.data = v.elements = v.indices = v.coeffs = 0;
+    }
+
+    /// The index-space clip matrix view_proj · (origin + spacing ⊙ p), in double.
+    static Mat<double, 4, 4> index_clip_matrix(const render::Camera& cam, const render::VolumeModel& m) {
+        Mat<double, 4, 4> world{};
+        for (int a = 0; a < 3; ++a) {
+            world[a][a] = m.spacing[a];
+            world[3][a] = m.origin[a];
+        }
+        world[3][3] = 1.0;
+        return cast<double>(cam.projection) * cast<double>(cam.view) * world;
+    }
+
+    /// The elements of one frame: the octree's active cubes not outside the frustum, expanded
+    /// into their relevant tetrahedra (slot << 5 | t), or the active cells.
+    std::vector<std::uint32_t> select(Volume& v, const render::Camera& cam) const {
+        const render::VolumeModel& m = *v.model;
+        const bool tri = m.scheme == render::VolumeScheme::trilinear;
+        const spline::Frustum f = spline::frustum_from_clip_matrix(index_clip_matrix(cam, m));
+        std::size_t visited = 0;
+        const std::vector<int> cubes = m.octree.active_cubes(m.iso, frustum_culling_ ? &f : nullptr, &visited);
+        std::vector<std::uint32_t> rec;
+        const int nx = m.octree.level(0).nx, ny = m.octree.level(0).ny;
+        v.stats = IsoDrawStats{};
+        v.stats.active = m.active;
+        v.stats.relevant = v.relevant;
+        v.stats.nodes_visited = visited;
+        for (int c : cubes) {
+            const auto i = static_cast<std::uint32_t>(c % nx), j = static_cast<std::uint32_t>((c / nx) % ny),
+                       k = static_cast<std::uint32_t>(c / (nx * ny));
+            if (tri) {
+                if (!m.cell_active[static_cast<std::size_t>(c)]) continue;
+                ++v.stats.visible;
+                rec.insert(rec.end(), {i, j, k, 0u});
+                continue;
+            }
+            const std::int32_t slot = m.slot[static_cast<std::size_t>(c)];
+            if (slot < 0) continue;
+            ++v.stats.visible;
+            const std::uint32_t mask = tet_culling_ ? m.tet_mask[static_cast<std::size_t>(slot)] : 0xffffffu;
+            for (std::uint32_t t = 0; t < spline::tets_per_cube; ++t)
+                if (mask & (1u << t)) rec.insert(rec.end(), {i, j, k, static_cast<std::uint32_t>(slot) << 5 | t});
+        }
+        v.stats.elements = rec.size() / 4;
+        return rec;
+    }
+
+    /// Index buffer for n elements: the 4 faces of a tetrahedron over its 4 vertices (vertex
+    /// order of positive orientation, faces counter-clockwise seen from outside), or the 12
+    /// triangles of a cell box over its 8 corners (corner k = (k & 1, k >> 1 & 1, k >> 2 & 1)).
+    void ensure_indices(Volume& v, std::size_t n, bool tri) const {
+        if (n <= v.index_capacity) return;
+        static constexpr std::uint32_t tet[12] = {0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3};
+        static constexpr std::uint32_t box[36] = {0, 2, 1, 1, 2, 3,  4, 5, 6, 5, 7, 6,  0, 1, 4, 1, 5, 4,
+                                                  2, 6, 3, 3, 6, 7,  0, 4, 2, 2, 4, 6,  1, 3, 5, 3, 7, 5};
+        const std::size_t cap = std::max<std::size_t>(n, 2 * v.index_capacity);
+        const std::uint32_t per = tri ? 8 : 4;
+        const std::size_t count = tri ? 36 : 12;
+        std::vector<std::uint32_t> idx(cap * count);
+        for (std::size_t e = 0; e < cap; ++e)
+            for (std::size_t k = 0; k < count; ++k) idx[e * count + k] = static_cast<std::uint32_t>(e) * per + (tri ? box[k] : tet[k]);
+        api_->BindBuffer(GL_ELEMENT_ARRAY_BUFFER, v.indices);
+        api_->BufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(idx.size() * sizeof(std::uint32_t)), idx.data(), GL_STATIC_DRAW);
+        v.index_capacity = cap;
+    }
+
+    void draw_volume(Volume& v, const render::Camera& cam, const render::Light& light, const render::RenderOptions& opt, bool gbuffer) {
+        const Api& gl = *api_;
+        const render::VolumeModel& m = *v.model;
+        const bool tri = m.scheme == render::VolumeScheme::trilinear;
+        const std::vector<std::uint32_t> rec = select(v, cam);
+        if (rec.empty()) return;
+        gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, v.elements);
+        upload(GL_SHADER_STORAGE_BUFFER, rec);
+        gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
+        const std::size_t n = rec.size() / 4;
+        ensure_indices(v, n, tri);
+        gl.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, v.indices);
+        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, v.elements);
+        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, v.data);
+        const bool pre = coeff_stage_ == CoefficientStage::compute && !tri;
+        if (pre) {
+            // The compute pre-pass: every element's coefficients, then a barrier for the vertex stage
+            const std::size_t nc = static_cast<std::size_t>(bb::coefficient_count(m.degree()));
+            gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, v.coeffs);
+            gl.BufferData(GL_SHADER_STORAGE_BUFFER, static_cast<GLsizeiptr>(n * nc * sizeof(float)), nullptr, GL_DYNAMIC_COPY);
+            gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
+            gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, v.coeffs);
+            const Program& cp = compute_program(std::string("qc_iso_") + render::volume_scheme_name(m.scheme) + "_coefficients.comp");
+            gl.UseProgram(cp.id());
+            gl.Uniform1ui(cp.uniform_location("qc_count"), static_cast<GLuint>(n));
+            gl.DispatchCompute(static_cast<GLuint>((n + 63) / 64), 1, 1);
+            gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        }
+        const std::string what = std::string(render::volume_scheme_name(m.scheme)) + (cam.orthographic ? "_ortho" : "_perspective");
+        const Program& prog = program("qc_iso_" + what + (pre ? "_precomputed" : "") + ".vert", (gbuffer ? "qc_iso_gbuffer_" : "qc_iso_") + what + ".frag");
+        gl.UseProgram(prog.id());
+        set_uniforms(prog, m, cam, light, opt);
+        gl.Uniform1ui(prog.uniform_location("qc_first"), 0u);
+        gl.DrawElements(GL_TRIANGLES, static_cast<GLsizei>(n * (tri ? 36 : 12)), GL_UNSIGNED_INT, nullptr);
+        if (pre) gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, 0);
+    }
+
+    void set_uniforms(const Program& p, const render::VolumeModel& m, const render::Camera& cam, const render::Light& light,
+                      const render::RenderOptions& opt) const {
+        const Api& gl = *api_;
+        const bool tri = m.scheme == render::VolumeScheme::trilinear;
+        // The camera in index space (double, rounded once)
+        const Vec3<double> eye = cast<double>(cam.eye);
+        float eye_index[3], origin[3], spacing[3], grad_scale[3];
+        for (int a = 0; a < 3; ++a) {
+            eye_index[a] = static_cast<float>((eye[a] - m.origin[a]) / m.spacing[a]);
+            origin[a] = static_cast<float>(m.origin[a]);
+            spacing[a] = static_cast<float>(m.spacing[a]);
+            grad_scale[a] = static_cast<float>((tri ? 1.0 : 2.0) / m.spacing[a]);
+        }
+        const float vz_row[3] = {cam.view[0][2], cam.view[1][2], cam.view[2][2]};
+        const float forward[3] = {-vz_row[0], -vz_row[1], -vz_row[2]};
+        const Mat4<float> vp = cam.projection * cam.view;
+        const float pz[4] = {cam.projection[2][2], cam.projection[3][2], cam.projection[2][3], cam.projection[3][3]};
+        gl.Uniform3fv(p.uniform_location("qc_eye_index"), 1, eye_index);
+        gl.Uniform3fv(p.uniform_location("qc_eye_world"), 1, cam.eye.c);
+        gl.Uniform3fv(p.uniform_location("qc_forward_world"), 1, forward);
+        gl.Uniform3fv(p.uniform_location("qc_origin"), 1, origin);
+        gl.Uniform3fv(p.uniform_location("qc_spacing"), 1, spacing);
+        gl.UniformMatrix4fv(p.uniform_location("qc_view_proj"), 1, GL_FALSE, &vp[0][0]);
+        gl.Uniform3fv(p.uniform_location("qc_vz_row"), 1, vz_row);
+        if (tri) gl.Uniform3i(p.uniform_location("qc_dims"), m.nx, m.ny, m.nz);
+        gl.Uniform4fv(p.uniform_location("qc_pz"), 1, pz);
+        gl.Uniform1f(p.uniform_location("qc_rho"), m.iso);
+        gl.Uniform3fv(p.uniform_location("qc_grad_scale"), 1, grad_scale);
+        gl.Uniform1f(p.uniform_location("qc_pixel"), 2.0f / (cam.projection[1][1] * static_cast<float>(opt.height)));
+        gl.Uniform3fv(p.uniform_location("qc_color"), 1, m.color.c);
+        gl.Uniform3fv(p.uniform_location("qc_light_dir"), 1, light.direction.c);
+        gl.Uniform3fv(p.uniform_location("qc_light_color"), 1, light.color.c);
+        gl.Uniform4fv(p.uniform_location("qc_material"), 1, opt.material.c);
+    }
+
+    const Program& compute_program(const std::string& cs) {
+        auto it = programs_.find(cs);
+        if (it != programs_.end()) return *it->second;
+        const std::string_view src = generated::find(cs);
+        if (src.empty()) throw std::runtime_error("quadcast::gl::IsosurfaceRenderer: no generated shader " + cs);
+        auto prog = std::make_unique<Program>(make_program(*api_, cs, {{GL_COMPUTE_SHADER, src}}));
+        return *programs_.emplace(cs, std::move(prog)).first->second;
+    }
+
+    const Program& program(const std::string& vs, const std::string& fs) {
+        const std::string key = vs + "+" + fs;
+        auto it = programs_.find(key);
+        if (it != programs_.end()) return *it->second;
+        const std::string_view vsrc = generated::find(vs), fsrc = generated::find(fs);
+        if (vsrc.empty() || fsrc.empty()) throw std::runtime_error("quadcast::gl::IsosurfaceRenderer: no generated shader " + (vsrc.empty() ? vs : fs));
+        auto prog = std::make_unique<Program>(make_program(*api_, key, {{GL_VERTEX_SHADER, vsrc}, {GL_FRAGMENT_SHADER, fsrc}}));
+        return *programs_.emplace(key, std::move(prog)).first->second;
+    }
+
+    const Api* api_;
+    GLuint vao_ = 0;
+    std::vector<Volume> volumes_;
+    std::map<std::string, std::unique_ptr<Program>> programs_;
+    bool frustum_culling_ = true, tet_culling_ = true;
+    CoefficientStage coeff_stage_ = CoefficientStage::vertex;
+};
+
+}  // namespace quadcast::gl

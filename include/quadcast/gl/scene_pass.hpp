@@ -1,0 +1,24 @@
+// quadcast/gl/scene_pass.hpp -- geometry drawn by another renderer in the quadric renderer's passes
+#pragma once
+
+#include "quadcast/linalg.hpp"
+#include "quadcast/render/types.hpp"
+
+namespace quadcast::gl {
+
+/// Geometry that a `QuadricRenderer` draws in each of its passes after its own primitives: the
+/// shadow map, the forward pass and the geometry buffer of deferred shading share one depth
+/// buffer, so the two kinds of geometry occlude each other and the deferred pass shades,
+/// shadows and outlines both.
+class ScenePass {
+public:
+    virtual ~ScenePass() = default;
+    /// Draws into the bound framebuffer (viewport, depth test and clears are the caller's) with
+    /// forward shading or, with `gbuffer`, the geometry-buffer outputs (normal + window depth, ray
+    /// direction + 1, colour + 1). Leaves its own vertex array and buffers bound.
+    virtual void draw(const render::Camera& cam, const render::Light& light, const render::RenderOptions& opt, bool gbuffer) = 0;
+    /// World bounding box of the geometry (for fitting the shadow map); lo > hi when empty.
+    virtual void bounds(Vec3<double>& lo, Vec3<double>& hi) const = 0;
+};
+
+}  // namespace quadcast::gl

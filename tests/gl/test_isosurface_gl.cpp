@@ -1,0 +1,232 @@
+// tests/gl/test_isosurface_gl.cpp -- the GL isosurface renderer (QSS, S31, trilinear) draws the CPU reference's image
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include "quadcast/gl/isosurface_renderer.hpp"
+#include "quadcast/gl/osmesa_context.hpp"
+#include "quadcast/gl/quadric_renderer.hpp"
+#include "quadcast/render/spline_cpu_renderer.hpp"
+#include "render/render_testing.hpp"
+
+using namespace quadcast;
+using namespace quadcast::render;
+
+namespace {
+
+/// n^3 samples of the Marschner-Lobb function on [-1,1]^3.
+spline::Volume<float> marschner_lobb_volume(int n) {
+    spline::Volume<float> v(n, n, n);
+    const double h = 2.0 / (n - 1), a = 0.25, fm = 6.0;
+    for (int k = 0; k < n; ++k)
+        for (int j = 0; j < n; ++j)
+            for (int i = 0; i < n; ++i) {
+                const double x = -1 + h * i, y = -1 + h * j, z = -1 + h * k, r = std::sqrt(x * x + y * y);
+                v.at(i, j, k) = float((1.0 - std::sin(M_PI * z / 2.0) + a * (1.0 + std::cos(2.0 * M_PI * fm * std::cos(M_PI * r / 2.0)))) / (2.0 * (1.0 + a)));
+            }
+    return v;
+}
+
+Camera camera(bool ortho, double distance = 4.0) {
+    const Vec3<double> eye = vec3(1.2, -2.1, 2.4) * (distance / 3.4);
+    return ortho ? qc_render_test::look_at(eye, vec3(0.0, 0.0, 0.0), vec3(0.0, 0.0, 1.0), qc_render_test::orthographic(-1.4, 1.4, -1.1, 1.1, 0.5, 10), true)
+                 : qc_render_test::look_at(eye, vec3(0.0, 0.0, 0.0), vec3(0.0, 0.0, 1.0), qc_render_test::perspective(40, 200.0 / 160.0, 0.5, 10));
+}
+
+/// GL (the quadric renderer's passes with the isosurfaces as a ScenePass) and CPU images.
+struct Pair {
+    Image gl, cpu;
+};
+
+struct Compare {
+    long covered = 0, mismatch = 0, mismatch_inside = 0, depth_far = 0, color_far = 0;
+    double max_depth_inside = 0;
+    int max_color_inside = 0;
+};
+
+/// A pixel is on a silhouette when its 3x3 neighbourhood in `img` has both covered and
+/// uncovered pixels, or depths more than `jump` apart.
+bool at_edge(const Image& img, int x, int y, float jump) {
+    const float d0 = img.depth[std::size_t(y) * img.width + x];
+    for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+            const int u = std::clamp(x + dx, 0, img.width - 1), v = std::clamp(y + dy, 0, img.height - 1);
+            const float d = img.depth[std::size_t(v) * img.width + u];
+            if ((d < 1.0f) != (d0 < 1.0f) || std::abs(d - d0) > jump) return true;
+        }
+    return false;
+}
+
+Compare compare(const Pair& p, float depth_tol, int color_tol) {
+    Compare c;
+    for (int y = 0; y < p.cpu.height; ++y)
+        for (int x = 0; x < p.cpu.width; ++x) {
+            const std::size_t i = std::size_t(y) * p.cpu.width + x;
+            const bool a = p.gl.depth[i] < 1.0f, b = p.cpu.depth[i] < 1.0f;
+            c.covered += b;
+            const bool edge = at_edge(p.cpu, x, y, 1e-3f) || at_edge(p.gl, x, y, 1e-3f);
+            if (a != b) {
+                ++c.mismatch;
+                c.mismatch_inside += !edge;
+                continue;
+            }
+            if (!a) continue;
+            const double dd = std::abs(double(p.gl.depth[i]) - double(p.cpu.depth[i]));
+            int dc = 0;
+            for (int k = 0; k < 3; ++k) dc = std::max(dc, std::abs(int(p.gl.rgba[i * 4 + k]) - int(p.cpu.rgba[i * 4 + k])));
+            if (edge) continue;
+            c.max_depth_inside = std::max(c.max_depth_inside, dd);
+            c.max_color_inside = std::max(c.max_color_inside, dc);
+            c.depth_far += dd > double(depth_tol);
+            c.color_far += dc > color_tol;
+        }
+    return c;
+}
+
+}  // namespace
+
+TEST_CASE("the GL isosurface renderer draws the CPU reference's image (QSS, S31, trilinear; perspective and orthographic)") {
+    gl::OsmesaContext ctx;
+    const spline::Volume<float> vol = marschner_lobb_volume(20);
+    const double h = 2.0 / 19;
+    Light light;
+    light.direction = vec3(-0.3f, 0.5f, -1.0f);
+    for (VolumeScheme s : {VolumeScheme::qss, VolumeScheme::s31, VolumeScheme::trilinear}) {
+        const VolumeModel m = prepare_volume(vol, vec3(-1.0, -1.0, -1.0), vec3(h, h, h), s, 0.5f, vec3(0.9f, 0.7f, 0.4f), 2);
+        gl::QuadricRenderer qr(ctx.api());
+        gl::IsosurfaceRenderer iso(ctx.api());
+        qr.set_primitives({});
+        iso.add_volume(m);
+        qr.add_pass(iso);
+        for (bool ortho : {false, true}) {
+            RenderOptions o;
+            o.width = 200;
+            o.height = 160;
+            const Camera cam = camera(ortho);
+            qr.draw(cam, light, o);
+            Pair p{qr.read(), render_volumes_cpu({&m}, cam, light, o, nullptr, 2)};
+            const Compare c = compare(p, 2e-5f, 3);
+            std::printf("[iso gl] %-9s %-12s: %ld covered, %ld coverage mismatches (%ld away from silhouettes), %zu of %zu elements drawn;"
+                        " inside: max depth diff %.2e (%ld > 2e-5), max colour diff %d (%ld > 3 LSB)\n",
+                        volume_scheme_name(s), ortho ? "orthographic" : "perspective", c.covered, c.mismatch, c.mismatch_inside,
+                        iso.stats(0).elements, iso.stats(0).relevant, c.max_depth_inside, c.depth_far, c.max_color_inside, c.color_far);
+            CHECK(c.covered > 8000);
+            CHECK(c.mismatch_inside == 0);
+            CHECK(c.mismatch <= c.covered / 100);
+            CHECK(c.depth_far <= c.covered / 1000);
+            // Trilinear normals jump across cell faces (C0): a hit within the clip pad of a face
+            // (quadcast::spline::min_clip_pad) may take either cell's gradient.
+            CHECK(c.color_far <= c.covered / (s == VolumeScheme::trilinear ? 100 : 500));
+        }
+    }
+}
+
+TEST_CASE("frustum culling skips cubes outside the view and leaves the image unchanged") {
+    gl::OsmesaContext ctx;
+    const spline::Volume<float> vol = marschner_lobb_volume(24);
+    const double h = 2.0 / 23;
+    const VolumeModel m = prepare_volume(vol, vec3(-1.0, -1.0, -1.0), vec3(h, h, h), VolumeScheme::qss, 0.5f, vec3(0.9f, 0.7f, 0.4f), 2, false);
+    CHECK(m.coeffs.empty());
+    gl::QuadricRenderer qr(ctx.api());
+    gl::IsosurfaceRenderer iso(ctx.api());
+    qr.set_primitives({});
+    iso.add_volume(m);
+    qr.add_pass(iso);
+    Light light;
+    RenderOptions o;
+    o.width = 160;
+    o.height = 120;
+    // Close up: a part of the volume fills the view
+    const Camera cam = qc_render_test::look_at(vec3(0.5, -0.9, 0.9), vec3(0.3, 0.0, 0.2), vec3(0.0, 0.0, 1.0), qc_render_test::perspective(35, 160.0 / 120.0, 0.05, 10));
+    qr.draw(cam, light, o);
+    const Image culled = qr.read();
+    const gl::IsoDrawStats on = iso.stats(0);
+    iso.set_frustum_culling(false);
+    qr.draw(cam, light, o);
+    const Image all = qr.read();
+    const gl::IsoDrawStats off = iso.stats(0);
+    long covered = 0, differ = 0;
+    for (std::size_t i = 0; i < all.depth.size(); ++i) {
+        covered += all.depth[i] < 1.0f;
+        differ += all.depth[i] != culled.depth[i];
+    }
+    std::printf("[iso gl] frustum culling: %zu of %zu active cubes visible, %zu of %zu tetrahedra drawn, %zu octree nodes tested; %ld covered px, %ld differ\n",
+                on.visible, on.active, on.elements, off.elements, on.nodes_visited, covered, differ);
+    CHECK(covered > 3000);
+    CHECK(on.visible < on.active);
+    CHECK(off.visible == off.active);
+    CHECK(on.elements < off.elements);
+    CHECK(differ == 0);
+}
+
+TEST_CASE("isosurfaces and quadrics share the depth buffer; deferred shading draws the forward image") {
+    gl::OsmesaContext ctx;
+    const spline::Volume<float> vol = marschner_lobb_volume(16);
+    const double h = 2.0 / 15;
+    const VolumeModel m = prepare_volume(vol, vec3(-1.0, -1.0, -1.0), vec3(h, h, h), VolumeScheme::s31, 0.5f, vec3(0.9f, 0.7f, 0.4f), 2, false);
+    gl::QuadricRenderer qr(ctx.api());
+    gl::IsosurfaceRenderer iso(ctx.api());
+    // A sphere outside the volume, in front of a part of the surface
+    qr.set_primitives({qc_render_test::sphere(vec3(0.55f, -1.05f, 1.15f), 0.3f, vec3(0.2f, 0.4f, 0.9f))});
+    iso.add_volume(m);
+    qr.add_pass(iso);
+    Light light;
+    light.direction = vec3(-0.3f, 0.5f, -1.0f);
+    RenderOptions o;
+    o.width = 160;
+    o.height = 128;
+    const Camera cam = camera(false);
+    qr.draw(cam, light, o);
+    const Image fwd = qr.read();
+    o.deferred = true;
+    qr.draw(cam, light, o);
+    const Image def = qr.read();
+    long blue = 0, warm = 0, depth_diff = 0, color_diff = 0;
+    for (std::size_t i = 0; i < fwd.depth.size(); ++i) {
+        const std::uint8_t* c = &fwd.rgba[i * 4];
+        if (fwd.depth[i] < 1.0f) (c[2] > c[0] ? blue : warm) += 1;
+        depth_diff += fwd.depth[i] != def.depth[i];
+        for (int k = 0; k < 3; ++k) color_diff += std::abs(int(c[k]) - int(def.rgba[i * 4 + k])) > 1;
+    }
+    std::printf("[iso gl] mixed scene: %ld sphere px, %ld isosurface px; deferred vs forward: %ld depth, %ld colour differences\n", blue, warm, depth_diff, color_diff);
+    CHECK(blue > 500);
+    CHECK(warm > 3000);
+    CHECK(depth_diff == 0);
+    CHECK(color_diff == 0);
+}
+
+TEST_CASE("the compute pre-pass of the coefficients draws the vertex stage's image bit for bit") {
+    gl::OsmesaContext ctx;
+    const spline::Volume<float> vol = marschner_lobb_volume(16);
+    const double h = 2.0 / 15;
+    Light light;
+    light.direction = vec3(-0.3f, 0.5f, -1.0f);
+    for (VolumeScheme s : {VolumeScheme::qss, VolumeScheme::s31}) {
+        const VolumeModel m = prepare_volume(vol, vec3(-1.0, -1.0, -1.0), vec3(h, h, h), s, 0.5f, vec3(0.9f, 0.7f, 0.4f), 2, false);
+        gl::QuadricRenderer qr(ctx.api());
+        gl::IsosurfaceRenderer iso(ctx.api());
+        qr.set_primitives({});
+        iso.add_volume(m);
+        qr.add_pass(iso);
+        for (bool ortho : {false, true}) {
+            RenderOptions o;
+            o.width = 160;
+            o.height = 128;
+            const Camera cam = camera(ortho);
+            iso.set_coefficient_stage(gl::IsosurfaceRenderer::CoefficientStage::vertex);
+            qr.draw(cam, light, o);
+            const Image a = qr.read();
+            iso.set_coefficient_stage(gl::IsosurfaceRenderer::CoefficientStage::compute);
+            qr.draw(cam, light, o);
+            const Image b = qr.read();
+            long covered = 0;
+            for (float d : a.depth) covered += d < 1.0f;
+            std::printf("[iso gl] compute pre-pass, %s %s: %ld covered px, images %s\n", volume_scheme_name(s), ortho ? "orthographic" : "perspective",
+                        covered, a.rgba == b.rgba && a.depth == b.depth ? "identical" : "DIFFER");
+            CHECK(covered > 3000);
+            CHECK(a.rgba == b.rgba);
+            CHECK(a.depth == b.depth);
+        }
+    }
+}

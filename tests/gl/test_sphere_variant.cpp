@@ -1,0 +1,114 @@
+// tests/gl/test_sphere_variant.cpp -- the sphere-specialised variant: GL against the CPU reference and against the general variant
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <random>
+
+#include "quadcast/gl/osmesa_context.hpp"
+#include "quadcast/gl/quadric_renderer.hpp"
+#include "quadcast/render/cpu_renderer.hpp"
+#include "render/render_testing.hpp"
+
+using namespace quadcast;
+using namespace quadcast::render;
+
+namespace {
+
+struct SphereDiff {
+    long coverage = 0, coverage_diff = 0, over_1 = 0;
+    int max = 0;
+    double max_depth = 0;
+};
+
+SphereDiff sphere_diff(const Image& a, const Image& b) {
+    SphereDiff d;
+    for (std::size_t i = 0; i < a.depth.size(); ++i) {
+        const bool ca = a.depth[i] < 1.0f, cb = b.depth[i] < 1.0f;
+        d.coverage += ca;
+        if (ca != cb) { ++d.coverage_diff; continue; }
+        if (!ca) continue;
+        d.max_depth = std::max(d.max_depth, static_cast<double>(std::fabs(a.depth[i] - b.depth[i])));
+        int m = 0;
+        for (int c = 0; c < 3; ++c) m = std::max(m, std::abs(int(a.rgba[i * 4 + c]) - int(b.rgba[i * 4 + c])));
+        d.max = std::max(d.max, m);
+        d.over_1 += m > 1;
+    }
+    return d;
+}
+
+/// n random spheres in [-2, 2]^3 (radius 0.05 to 0.6, overlapping), as the sphere or the closed variant.
+std::vector<render::Primitive> random_spheres(unsigned seed, int n, Variant variant) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> u(-2.0f, 2.0f), s(0.05f, 0.6f), c(0.1f, 1.0f);
+    std::vector<render::Primitive> out;
+    for (int i = 0; i < n; ++i) {
+        const Vec3<float> p = vec3(u(rng), u(rng), u(rng));
+        const float r = s(rng);
+        render::Primitive sp = qc_render_test::sphere(p, r, vec3(c(rng), c(rng), c(rng)));
+        sp.variant = variant;
+        out.push_back(sp);
+    }
+    return out;
+}
+
+}  // namespace
+
+TEST_CASE("sphere variant: the GL renderer draws what the CPU reference draws, and what the general variant draws") {
+    gl::OsmesaContext ctx;
+    gl::QuadricRenderer sphere_r(ctx.api()), closed_r(ctx.api());
+    const std::vector<render::Primitive> spheres = random_spheres(21, 300, Variant::sphere), closed = random_spheres(21, 300, Variant::closed);
+    sphere_r.set_primitives(spheres);
+    closed_r.set_primitives(closed);
+    Light light;
+    light.direction = vec3(-0.4f, -0.6f, -1.0f);
+    for (bool ortho : {false, true})
+        for (bool cull : {true, false})
+            for (bool deferred : {false, true}) {
+                RenderOptions o;
+                o.width = 320;
+                o.height = 240;
+                o.culling = cull;
+                o.deferred = deferred;
+                const Camera cam = ortho ? qc_render_test::look_at(vec3(0.5, 1.0, 8.0), vec3(0.0, 0.0, 0.0), vec3(0.0, 1.0, 0.0), qc_render_test::orthographic(-4, 4, -3, 3, 1, 20), true)
+                                         : qc_render_test::look_at(vec3(0.5, 1.0, 8.0), vec3(0.0, 0.0, 0.0), vec3(0.0, 1.0, 0.0), qc_render_test::perspective(50, 320.0 / 240.0, 1, 20));
+                sphere_r.draw(cam, light, o);
+                const Image g = sphere_r.read();
+                closed_r.draw(cam, light, o);
+                const Image gc = closed_r.read();
+                const Image c = render_cpu(spheres, cam, light, o);
+                const SphereDiff d = sphere_diff(g, c), dv = sphere_diff(g, gc);
+                std::printf("[sphere variant] %s, culling %s, %s: %ld covered px; GL vs CPU: %ld coverage differences, %ld px > 1 LSB (max %d), "
+                            "max depth difference %.3g; vs the closed variant: %ld coverage differences, max %d LSB\n",
+                            ortho ? "orthographic" : "perspective", cull ? "on" : "off", deferred ? "deferred" : "forward", d.coverage,
+                            d.coverage_diff, d.over_1, d.max, d.max_depth, dv.coverage_diff, dv.max);
+                CHECK(d.coverage > 20000);
+                CHECK(d.coverage_diff == 0);
+                CHECK(d.over_1 <= d.coverage / 1000);
+                CHECK(d.max_depth < 1e-5);
+                CHECK(dv.coverage_diff <= d.coverage / 1000);
+            }
+}
+
+TEST_CASE("sphere variant: an eye inside a sphere sees its inside only with culling off") {
+    gl::OsmesaContext ctx;
+    gl::QuadricRenderer r(ctx.api());
+    render::Primitive big = qc_render_test::sphere(vec3(0.0f, 0.0f, 0.0f), 3.0f);
+    big.variant = Variant::sphere;
+    r.set_primitives({big});
+    Light light;
+    light.direction = vec3(-0.4f, -0.6f, -1.0f);
+    const Camera cam = qc_render_test::look_at(vec3(0.5, 0.2, 1.0), vec3(0.0, 0.0, -1.0), vec3(0.0, 1.0, 0.0), qc_render_test::perspective(50, 4.0 / 3.0, 0.1, 20));
+    for (bool cull : {true, false}) {
+        RenderOptions o;
+        o.width = 160;
+        o.height = 120;
+        o.culling = cull;
+        r.draw(cam, light, o);
+        const Image g = r.read();
+        const Image c = render_cpu(std::vector<render::Primitive>{big}, cam, light, o);
+        const SphereDiff d = sphere_diff(g, c);
+        CHECK(d.coverage == (cull ? 0 : 160 * 120));
+        CHECK(d.coverage_diff == 0);
+    }
+}
