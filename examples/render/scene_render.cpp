@@ -234,6 +234,12 @@ Frame build_frame(const scene::Scene& s, int width, int height) {
     fr.options.deferred = s.options.deferred;
     fr.options.silhouettes = s.options.silhouettes;
     fr.options.shadows = s.options.shadows;
+    if (s.options.outline_depth) fr.options.silhouette[0] = static_cast<float>(*s.options.outline_depth);
+    if (s.options.outline_crease) fr.options.silhouette[1] = static_cast<float>(*s.options.outline_crease);
+    if (s.options.outline_strength) fr.options.silhouette[2] = static_cast<float>(*s.options.outline_strength);
+    if (s.options.shadow_map_size) fr.options.shadow_map_size = *s.options.shadow_map_size;
+    if (s.options.pcf_step) fr.options.pcf_step = *s.options.pcf_step;
+    if (s.options.shadow_bias) fr.options.shadow_bias = static_cast<float>(*s.options.shadow_bias);
     if (s.options.environment == scene::Options::Environment::file) {
         const Image img = read_png(s.options.environment_file);
         fr.options.environment = std::make_shared<const EnvironmentMap>(

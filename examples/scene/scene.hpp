@@ -137,6 +137,14 @@ struct Options {
     bool deferred = false;
     bool shadows = false;
     bool silhouettes = false;
+    /// "outline": {"depth": relative depth-gradient threshold, "crease": normal-gradient
+    /// threshold, "strength": in [0, 1]} (quadcast::silhouette_weight); absent: the renderer's
+    /// defaults.
+    std::optional<double> outline_depth, outline_crease, outline_strength;
+    /// "shadow": {"map_size": texels per side, "pcf_step": texels between PCF samples, "bias":
+    /// in shadow-map texels}; absent: the renderer's defaults.
+    std::optional<int> shadow_map_size, pcf_step;
+    std::optional<double> shadow_bias;
     Vec3d background{{1.0, 1.0, 1.0}};
     /// Environment reflection ("environment": {"file" | "procedural", "reflectivity"}): a
     /// latitude-longitude PNG (resolved path) or the built-in sky (colours, defaults of

@@ -331,8 +331,28 @@ void load_environment(const JsonNode& n, Options& o, const std::filesystem::path
 }
 
 Options load_options(const JsonNode& n, const std::filesystem::path& base_dir) {
-    n.expect_keys({"culling", "deferred", "shadows", "silhouettes", "background", "environment", "comment"});
+    n.expect_keys({"culling", "deferred", "shadows", "silhouettes", "outline", "shadow", "background", "environment", "comment"});
     Options o;
+    if (const auto ol = n.get("outline")) {
+        ol->expect_keys({"depth", "crease", "strength", "comment"});
+        if (const auto v = ol->get("depth")) o.outline_depth = v->number(Range::positive);
+        if (const auto v = ol->get("crease")) o.outline_crease = v->number(Range::positive);
+        if (const auto v = ol->get("strength")) o.outline_strength = v->number(Range::unit);
+    }
+    if (const auto sh = n.get("shadow")) {
+        sh->expect_keys({"map_size", "pcf_step", "bias", "comment"});
+        if (const auto v = sh->get("map_size")) {
+            const double m = v->number(Range::positive);
+            if (m != std::floor(m) || m < 64 || m > 8192) v->fail("the shadow map size must be an integer in [64, 8192]", true);
+            o.shadow_map_size = static_cast<int>(m);
+        }
+        if (const auto v = sh->get("pcf_step")) {
+            const double m = v->number(Range::positive);
+            if (m != std::floor(m) || m > 64) v->fail("the PCF step must be an integer in [1, 64] (texels)", true);
+            o.pcf_step = static_cast<int>(m);
+        }
+        if (const auto v = sh->get("bias")) o.shadow_bias = v->number(Range::nonnegative);
+    }
     if (const auto v = n.get("culling")) o.culling = v->boolean();
     if (const auto v = n.get("deferred")) o.deferred = v->boolean();
     if (const auto v = n.get("shadows")) o.shadows = v->boolean();

@@ -448,3 +448,25 @@ TEST_CASE("options.environment: a file relative to the scene or the procedural s
     e = error_of(R"({"objects": [], "options": {"environment": {"procedural": {"sky": [0, 0, 1]}}}})");
     CHECK(e.field() == "/options/environment/procedural/sky");
 }
+
+TEST_CASE("options.outline and options.shadow set the outline and shadow parameters, checked") {
+    Scene s = parse(R"({"objects": [], "options": {"outline": {"depth": 0.1, "strength": 0.4}, "shadow": {"map_size": 1024, "pcf_step": 1, "bias": 4}}})");
+    REQUIRE(s.options.outline_depth.has_value());
+    CHECK(*s.options.outline_depth == 0.1);
+    CHECK_FALSE(s.options.outline_crease.has_value());
+    CHECK(*s.options.outline_strength == 0.4);
+    CHECK(*s.options.shadow_map_size == 1024);
+    CHECK(*s.options.pcf_step == 1);
+    CHECK(*s.options.shadow_bias == 4.0);
+    CHECK_FALSE(parse(R"({"objects": []})").options.shadow_map_size.has_value());
+
+    ParseError e = error_of(R"({"objects": [], "options": {"outline": {"strength": 2}}})");
+    CHECK(e.field() == "/options/outline/strength");
+    e = error_of(R"({"objects": [], "options": {"outline": {"width": 2}}})");
+    CHECK(e.field() == "/options/outline/width");
+    e = error_of(R"({"objects": [], "options": {"shadow": {"map_size": 100.5}}})");
+    CHECK(e.field() == "/options/shadow/map_size");
+    CHECK(e.message().find("integer in [64, 8192]") != std::string::npos);
+    e = error_of(R"({"objects": [], "options": {"shadow": {"bias": -1}}})");
+    CHECK(e.field() == "/options/shadow/bias");
+}
