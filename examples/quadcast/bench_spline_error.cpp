@@ -513,7 +513,7 @@ void run_spline_error(const SplineErrorOptions& opt) {
         if (!opt.plot.empty()) {
             LogLogPlot p;
             p.title = tf.name + " (iso " + fmt("%g", tf.iso) + "): RMS error vs frame time";
-            p.x_label = "CPU frame time (ms), " + std::to_string(opt.width) + "x" + std::to_string(opt.width);
+            p.x_label = "frame time (ms; CPU methods on 2 threads, -gl on llvmpipe), " + std::to_string(opt.width) + "x" + std::to_string(opt.width);
             p.y_label = "RMS isosurface position error (domain units)";
             for (const ErrorMethod& m : methods) {
                 PlotSeries s;
