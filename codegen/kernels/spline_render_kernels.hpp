@@ -192,8 +192,8 @@ struct SplineFragmentKernel {
         const auto pz = io.template vec<4>("pz");
         const auto rho = io.scalar("rho");
         const auto grad_scale = io.template vec<3>("grad_scale");
-        const auto pad = io.scalar("pad");
-        const spline::IsoFragment<T> f = spline::spline_fragment<Q>(c, rot, o, w, v, vz, pz, rho, grad_scale, pad);
+        const auto pixel = io.scalar("pixel");
+        const spline::IsoFragment<T> f = spline::spline_fragment<Q>(c, rot, o, w, v, vz, pz, rho, grad_scale, pixel);
         io.out("hit", f.hit);
         io.out("depth", f.depth);
         io.out("normal", f.normal);
@@ -223,7 +223,7 @@ struct SplineFragmentKernel {
         put(in, p, pz);
         put(in, p, rho);
         put(in, p, vec3(uniform(rng, 0.3f, 4.0f), uniform(rng, 0.3f, 4.0f), uniform(rng, 0.3f, 4.0f)));
-        put(in, p, std::ldexp(1.0f, std::uniform_int_distribution<int>(-16, -6)(rng)));  // pad
+        put(in, p, std::ldexp(1.0f, std::uniform_int_distribution<int>(-14, -6)(rng)) * uniform(rng, 1.0f, 2.0f));  // pixel
     }
 };
 
@@ -241,8 +241,8 @@ struct TrilinearFragmentKernel {
         const auto pz = io.template vec<4>("pz");
         const auto rho = io.scalar("rho");
         const auto grad_scale = io.template vec<3>("grad_scale");
-        const auto pad = io.scalar("pad");
-        const spline::IsoFragment<T> f = spline::trilinear_fragment(v, o, w, d, vz, pz, rho, grad_scale, pad);
+        const auto pixel = io.scalar("pixel");
+        const spline::IsoFragment<T> f = spline::trilinear_fragment(v, o, w, d, vz, pz, rho, grad_scale, pixel);
         io.out("hit", f.hit);
         io.out("depth", f.depth);
         io.out("normal", f.normal);
@@ -270,7 +270,7 @@ struct TrilinearFragmentKernel {
         put(in, p, pz);
         put(in, p, rho);
         put(in, p, vec3(uniform(rng, 0.3f, 4.0f), uniform(rng, 0.3f, 4.0f), uniform(rng, 0.3f, 4.0f)));
-        put(in, p, std::ldexp(1.0f, std::uniform_int_distribution<int>(-16, -6)(rng)));  // pad
+        put(in, p, std::ldexp(1.0f, std::uniform_int_distribution<int>(-14, -6)(rng)) * uniform(rng, 1.0f, 2.0f));  // pixel
     }
 };
 

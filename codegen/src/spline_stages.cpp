@@ -8,7 +8,6 @@
 #include "quadcast/bb/multi_index.hpp"
 #include "quadcast/spline/masks.hpp"
 #include "quadcast/spline/partition.hpp"
-#include "quadcast/spline/render.hpp"
 #include "stage_builder.hpp"
 
 namespace quadcast::codegen {
@@ -237,15 +236,11 @@ Stage fragment_shader(Scheme scheme, bool ortho, bool gbuffer) {
         m << "layout(location = 0) out vec4 qc_color_out;\n\n";
     m << fns.str();
     m << "void main()\n{\n"
-         "    // How far the element is grown (quadcast::spline::min_clip_pad): the rasteriser's snapping\n"
-         "    // error, from this pixel's footprint in cube-local units.\n"
-         "    float pad = max(" << glsl_float(float(spline::min_clip_pad)) << ", " << glsl_float(float(spline::clip_pad_per_footprint))
-      << " * qc_pixel * length(qc_v));\n"
          "    bool hit;\n    float depth;\n    vec3 n;\n"
          "    qc_" << kernel << "(";
     for (int i = 0; i < g.count; ++i) m << "qc_" << g.name << i << ", ";
     if (!tri) m << "qc_rotations[qc_tet], ";
-    m << "qc_o, qc_w, qc_v, qc_vz, qc_pz, qc_rho, qc_grad_scale, pad, hit, depth, n);\n"
+    m << "qc_o, qc_w, qc_v, qc_vz, qc_pz, qc_rho, qc_grad_scale, qc_pixel, hit, depth, n);\n"
          "    if (!hit) discard;\n"
          "    gl_FragDepth = depth;\n";
     if (gbuffer)

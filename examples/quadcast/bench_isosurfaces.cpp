@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "timing.hpp"
 #include "image_io.hpp"
 #include "load.hpp"
 #include "quadcast/gl/isosurface_renderer.hpp"
@@ -34,15 +35,6 @@ struct IsoBenchOptions {
     bool iso_given = false;
     int frames = 7, cpu_frames = 2, width = 1024, height = 768;
 };
-
-double ms_since(std::chrono::steady_clock::time_point t0) {
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
-
-double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    return v.empty() ? 0.0 : v[v.size() / 2];
-}
 
 /// A camera looking at the volume's box from direction (1, -0.8, 0.6) at `distance` times the
 /// box's radius (1 = on the bounding sphere), 40° field of view.

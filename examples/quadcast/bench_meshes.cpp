@@ -38,6 +38,7 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "timing.hpp"
 #include "image_io.hpp"
 #include "quadcast/gl/mesh_renderer.hpp"
 #include "quadcast/gl/osmesa_context.hpp"
@@ -231,11 +232,6 @@ double time_ms(const std::function<void()>& f) {
     const auto t0 = std::chrono::steady_clock::now();
     f();
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
-
-double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    return v[v.size() / 2];
 }
 
 struct Row {

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "timing.hpp"
 #include "quadcast/gl/osmesa_context.hpp"
 #include "quadcast/gl/quadric_renderer.hpp"
 #include "scene_render.hpp"
@@ -77,10 +78,6 @@ void run_spheres(const SpheresOptions& o) {
         const auto t0 = std::chrono::steady_clock::now();
         renderer.draw(cam, light, ro);
         return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    };
-    auto median = [](std::vector<double> v) {
-        std::sort(v.begin(), v.end());
-        return v[v.size() / 2];
     };
     for (int n : o.counts) {
         r.set_primitives(random_spheres(n, 7, render::Variant::sphere));

@@ -42,6 +42,7 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "timing.hpp"
 #include "image_io.hpp"
 #include "plot.hpp"
 #include "quadcast/gl/isosurface_renderer.hpp"
@@ -50,6 +51,7 @@
 #include "quadcast/gl/quadric_renderer.hpp"
 #include "quadcast/render/cpu_renderer.hpp"
 #include "quadcast/render/spline_cpu_renderer.hpp"
+#include "quadcast/shading.hpp"
 #include "quadcast/spline/marching_cubes.hpp"
 #include "scene_render.hpp"
 #include "synthetic.hpp"
@@ -59,7 +61,6 @@ namespace quadcast::cli {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
 constexpr float no_hit = std::numeric_limits<float>::quiet_NaN();
 
@@ -196,19 +197,19 @@ gl::OsmesaContext& gl_context() {
 }
 
 /// λ per pixel from a GL window-depth image of the bench's orthographic camera (see
-/// bench_spline_error.hpp): z_ndc = 2d - 1, z_view = (z_ndc - P32) / P22, λ = -z_view; rows
-/// flipped to window order (y = 0 the bottom row).
+/// bench_spline_error.hpp): λ = -z_view (`view_z_from_depth`); rows flipped to window order
+/// (y = 0 the bottom row).
 LambdaImage lambda_from_depth(const render::Image& img, const render::Camera& cam) {
     LambdaImage out;
     out.width = img.width;
     out.height = img.height;
     out.lambda.assign(img.depth.size(), no_hit);
-    const double p22 = cam.projection[2][2], p32 = cam.projection[3][2];
+    const Vec4<double> pz = cast<double>(vec4(cam.projection[2][2], cam.projection[3][2], cam.projection[2][3], cam.projection[3][3]));
     for (int y = 0; y < img.height; ++y)
         for (int x = 0; x < img.width; ++x) {
             const float d = img.depth[std::size_t(img.height - 1 - y) * img.width + x];
             if (d >= 1.0f) continue;
-            out.lambda[std::size_t(y) * img.width + x] = float(-((2.0 * double(d) - 1.0) - p32) / p22);
+            out.lambda[std::size_t(y) * img.width + x] = float(-view_z_from_depth(double(d), pz));
         }
     return out;
 }

@@ -7,8 +7,8 @@
 // the same pixel rays, so any renderer that can report, per pixel, the ray parameter of its first
 // hit on the ray of `render::pixel_ray` can be measured. A GL renderer reads back its window
 // depth d and converts it: the bench's camera is orthographic (rays start in the plane
-// z_view = 0 and run along -z_view with unit speed), so z_ndc = 2d - 1,
-// z_view = (z_ndc - P32) / P22 and λ = -z_view (P = camera.projection, P[col][row]). Such a
+// z_view = 0 and run along -z_view with unit speed), so λ = -z_view with z_view from
+// `view_z_from_depth` (quadcast/shading.hpp). Such a
 // method is appended to `spline_error_methods`.
 
 #include <functional>

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "timing.hpp"
 #include "diagnostics.hpp"
 #include "image_io.hpp"
 #include "quadcast/gl/isosurface_renderer.hpp"
@@ -28,11 +29,6 @@ struct RenderArgs {
     int width = 1024, height = 768, frames = 0;
     bool cpu = false;
 };
-
-double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    return v.empty() ? 0.0 : v[v.size() / 2];
-}
 
 int write_outputs(const RenderArgs& a, const render::Image& img) {
     try {

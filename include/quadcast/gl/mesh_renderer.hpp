@@ -313,19 +313,7 @@ private:
         const Api& gl = *api_;
         width_ = w;
         height_ = h;
-        gl.GenTextures(2, tex_);
-        gl.BindTexture(GL_TEXTURE_2D, tex_[0]);
-        gl.TexStorage2D(GL_TEXTURE_2D, 1, GL_RGBA8, w, h);
-        gl.BindTexture(GL_TEXTURE_2D, tex_[1]);
-        gl.TexStorage2D(GL_TEXTURE_2D, 1, GL_DEPTH_COMPONENT32F, w, h);
-        gl.BindTexture(GL_TEXTURE_2D, 0);
-        gl.GenFramebuffers(1, &fbo_);
-        gl.BindFramebuffer(GL_FRAMEBUFFER, fbo_);
-        gl.FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, tex_[0], 0);
-        gl.FramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, tex_[1], 0);
-        const GLenum status = gl.CheckFramebufferStatus(GL_FRAMEBUFFER);
-        gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
-        if (status != GL_FRAMEBUFFER_COMPLETE) throw std::runtime_error("quadcast::gl::MeshRenderer: incomplete framebuffer");
+        fbo_ = make_framebuffer(gl, w, h, tex_, "quadcast::gl::MeshRenderer");
     }
 
     void release_fbo() {

@@ -127,9 +127,17 @@ struct IsoFragment {
 inline constexpr double min_clip_pad = 1.0 / 65536.0;
 inline constexpr double clip_pad_per_footprint = 1.0 / 32.0;
 
+/// The clip pad of a fragment (see `min_clip_pad`): pixel = a pixel's angle (perspective) or world
+/// width (orthographic), 2 / (P11 height); v = the fragment's cube-local ray direction.
+/// Numerics: max(2^-16, (pixel / 32) * |v|), |v| = sqrt(v.v).
+template <class T>
+T clip_pad(const T& pixel, const Vec3<T>& v) {
+    return max(T(min_clip_pad), (T(clip_pad_per_footprint) * pixel) * length(v));
+}
+
 /// The fragment stage of a spline tetrahedron (Kalbe & Zeilfelder 2008, Sect. 5.3): the ray
 /// o + s v (cube-local, λ = w + s) is rotated into the frame of T_0 by R_t^T (`apply_transpose`,
-/// exact), clipped to the tetrahedron grown by `pad` (see `min_clip_pad`) and to the visible λ range
+/// exact), clipped to the tetrahedron grown by `clip_pad(pixel, v)` and to the visible λ range
 /// (`depth_range_lambda`), the first root of the restricted BB-form minus ρ is found
 /// (`intersect_piece`), the T_0-frame gradient is rotated back (R_t g') and scaled to world units
 /// by grad_scale = (1/s) / spacing per axis.
@@ -137,9 +145,10 @@ inline constexpr double clip_pad_per_footprint = 1.0 / 32.0;
 /// (R_t g') (left folds).
 template <int Q, class T>
 IsoFragment<T> spline_fragment(const bb::BezierTet<T, Q>& c, const Mat3<T>& rot, const Vec3<T>& o, const T& w, const Vec3<T>& v,
-                               const T& vz, const Vec4<T>& pz, const T& rho, const Vec3<T>& grad_scale, const T& pad) {
+                               const T& vz, const Vec4<T>& pz, const T& rho, const Vec3<T>& grad_scale, const T& pixel) {
     const Vec3<T> op = apply_transpose(rot, o), vp = apply_transpose(rot, v);
     const Vec2<T> range = depth_range_lambda(vz, pz);
+    const T pad = clip_pad(pixel, v);
     const PieceHit<T> h = intersect_piece<Q>(c, barycentric_tet0(op), barycentric_tet0_direction(vp), range[0] - w, range[1] - w, rho,
                                              barycentric_directions<T>(0), &pad);
     IsoFragment<T> f{};
@@ -176,14 +185,14 @@ CellSegment<T> clip_ray_to_cell(const Vec3<T>& w0, const Vec3<T>& d, const T& s_
 }
 
 /// The fragment stage of a trilinear cell: the ray o + s v (cell-local, re-origined on the drawn
-/// face, λ = w + s) clipped to the cell grown by `pad` (see `min_clip_pad`) and to the visible λ range, the first hit of the trilinear
+/// face, λ = w + s) clipped to the cell grown by `clip_pad(pixel, v)` and to the visible λ range, the first hit of the trilinear
 /// isosurface (`intersect_trilinear_cell`), gradient scaled to world units by grad_scale =
 /// 1 / spacing. Numerics: as `spline_fragment`.
 template <class T>
 IsoFragment<T> trilinear_fragment(const CellCorners<T>& corners, const Vec3<T>& o, const T& w, const Vec3<T>& v, const T& vz,
-                                  const Vec4<T>& pz, const T& rho, const Vec3<T>& grad_scale, const T& pad) {
+                                  const Vec4<T>& pz, const T& rho, const Vec3<T>& grad_scale, const T& pixel) {
     const Vec2<T> range = depth_range_lambda(vz, pz);
-    const CellSegment<T> seg = clip_ray_to_cell(o, v, range[0] - w, range[1] - w, pad);
+    const CellSegment<T> seg = clip_ray_to_cell(o, v, range[0] - w, range[1] - w, clip_pad(pixel, v));
     const PieceHit<T> h = intersect_trilinear_cell(corners, o, v, seg.s_in, seg.s_out, rho);
     IsoFragment<T> f{};
     f.depth = window_depth(w + h.s, vz, pz);
