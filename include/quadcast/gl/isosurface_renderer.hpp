@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "quadcast/generated/shaders.hpp"
+#include "quadcast/gl/generated_programs.hpp"
 #include "quadcast/gl/loader.hpp"
 #include "quadcast/gl/program.hpp"
 #include "quadcast/gl/scene_pass.hpp"
@@ -245,14 +246,14 @@ private:
             gl.BufferData(GL_SHADER_STORAGE_BUFFER, static_cast<GLsizeiptr>(n * nc * sizeof(float)), nullptr, GL_DYNAMIC_COPY);
             gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
             gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, v.coeffs);
-            const Program& cp = compute_program(std::string("qc_iso_") + render::volume_scheme_name(m.scheme) + "_coefficients.comp");
+            const Program& cp = programs_.compute(std::string("qc_iso_") + render::volume_scheme_name(m.scheme) + "_coefficients.comp");
             gl.UseProgram(cp.id());
             gl.Uniform1ui(cp.uniform_location("qc_count"), static_cast<GLuint>(n));
             gl.DispatchCompute(static_cast<GLuint>((n + 63) / 64), 1, 1);
             gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
         }
         const std::string what = std::string(render::volume_scheme_name(m.scheme)) + (cam.orthographic ? "_ortho" : "_perspective");
-        const Program& prog = program("qc_iso_" + what + (pre ? "_precomputed" : "") + ".vert", (gbuffer ? "qc_iso_gbuffer_" : "qc_iso_") + what + ".frag");
+        const Program& prog = programs_.get("qc_iso_" + what + (pre ? "_precomputed" : "") + ".vert", (gbuffer ? "qc_iso_gbuffer_" : "qc_iso_") + what + ".frag");
         gl.UseProgram(prog.id());
         set_uniforms(prog, m, cam, light, opt);
         gl.Uniform1ui(prog.uniform_location("qc_first"), 0u);
@@ -295,29 +296,10 @@ private:
         gl.Uniform4fv(p.uniform_location("qc_material"), 1, opt.material.c);
     }
 
-    const Program& compute_program(const std::string& cs) {
-        auto it = programs_.find(cs);
-        if (it != programs_.end()) return *it->second;
-        const std::string_view src = generated::find(cs);
-        if (src.empty()) throw std::runtime_error("quadcast::gl::IsosurfaceRenderer: no generated shader " + cs);
-        auto prog = std::make_unique<Program>(make_program(*api_, cs, {{GL_COMPUTE_SHADER, src}}));
-        return *programs_.emplace(cs, std::move(prog)).first->second;
-    }
-
-    const Program& program(const std::string& vs, const std::string& fs) {
-        const std::string key = vs + "+" + fs;
-        auto it = programs_.find(key);
-        if (it != programs_.end()) return *it->second;
-        const std::string_view vsrc = generated::find(vs), fsrc = generated::find(fs);
-        if (vsrc.empty() || fsrc.empty()) throw std::runtime_error("quadcast::gl::IsosurfaceRenderer: no generated shader " + (vsrc.empty() ? vs : fs));
-        auto prog = std::make_unique<Program>(make_program(*api_, key, {{GL_VERTEX_SHADER, vsrc}, {GL_FRAGMENT_SHADER, fsrc}}));
-        return *programs_.emplace(key, std::move(prog)).first->second;
-    }
-
     const Api* api_;
     GLuint vao_ = 0;
     std::vector<Volume> volumes_;
-    std::map<std::string, std::unique_ptr<Program>> programs_;
+    GeneratedPrograms programs_{*api_, "quadcast::gl::IsosurfaceRenderer"};
     bool frustum_culling_ = true, tet_culling_ = true;
     CoefficientStage coeff_stage_ = CoefficientStage::vertex;
 };

@@ -19,6 +19,7 @@
 
 #include "quadcast/generated/shaders.hpp"
 #include "quadcast/gl/framebuffer.hpp"
+#include "quadcast/gl/generated_programs.hpp"
 #include "quadcast/gl/loader.hpp"
 #include "quadcast/gl/program.hpp"
 #include "quadcast/gl/scene_pass.hpp"
@@ -241,15 +242,7 @@ private:
     }
 
     /// The program of a generated vertex and fragment shader (compiled on first use).
-    const Program& program(const std::string& vs, const std::string& fs) {
-        const std::string key = vs + "+" + fs;
-        auto it = programs_.find(key);
-        if (it != programs_.end()) return *it->second;
-        const std::string_view vsrc = generated::find(vs), fsrc = generated::find(fs);
-        if (vsrc.empty() || fsrc.empty()) throw std::runtime_error("quadcast::gl::QuadricRenderer: no generated shader " + (vsrc.empty() ? vs : fs));
-        auto prog = std::make_unique<Program>(make_program(*api_, key, {{GL_VERTEX_SHADER, vsrc}, {GL_FRAGMENT_SHADER, fsrc}}));
-        return *programs_.emplace(key, std::move(prog)).first->second;
-    }
+    const Program& program(const std::string& vs, const std::string& fs) { return programs_.get(vs, fs); }
 
     /// The deferred pass: one full-screen triangle into the colour target (depth test off; the
     /// depth target keeps the quadric pass's depth) shading each pixel from the geometry buffer.
@@ -482,7 +475,7 @@ private:
     int width_ = 0, height_ = 0;
     std::size_t count_ = 0;
     std::pair<std::uint32_t, std::uint32_t> ranges_[render::variant_count] = {};
-    std::map<std::string, std::unique_ptr<Program>> programs_;
+    GeneratedPrograms programs_{*api_, "quadcast::gl::QuadricRenderer"};
     FragmentStage stage_ = FragmentStage::incremental;
     bool depth_test_ = true;
     GLuint query_ = 0;
