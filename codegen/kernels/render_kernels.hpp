@@ -12,8 +12,8 @@
 namespace quadcast::codegen::kernels {
 
 /// Reads a QuadricPrimitive's fields as kernel inputs (the fragment stage reads them from the
-/// primitive's record).
-template <bool Planes = false, class IO>
+/// primitive's record); the slab variants also read the caps, the planes variants the planes.
+template <bool Planes = false, bool Slab = false, class IO>
 QuadricPrimitive<typename IO::T> primitive_inputs(IO& io) {
     using T = typename IO::T;
     QuadricPrimitive<T> p{};
@@ -22,6 +22,7 @@ QuadricPrimitive<typename IO::T> primitive_inputs(IO& io) {
     p.radius = io.scalar("radius");
     p.axis = io.template vec<3>("axis");
     p.half_length = io.scalar("half_length");
+    if constexpr (Slab) p.caps = io.template vec<2>("caps");
     if constexpr (Planes)
         for (int i = 0; i < 4; ++i) p.planes[i] = io.template vec<4>("plane" + std::to_string(i));
     return p;
@@ -36,6 +37,11 @@ inline void put_primitive(std::mt19937& rng, std::span<float> in, std::size_t& p
     put(in, p, uniform(rng, 0.2f, 3.0f));
     put(in, p, random_direction(rng));
     put(in, p, uniform(rng, 0.1f, 2.0f));
+}
+
+/// The caps of a slab primitive: each end closed or open at random.
+inline void put_caps(std::mt19937& rng, std::span<float> in, std::size_t& p) {
+    put(in, p, vec2(uniform(rng, 0.0f, 1.0f) < 0.7f ? 1.0f : 0.0f, uniform(rng, 0.0f, 1.0f) < 0.7f ? 1.0f : 0.0f));
 }
 
 /// Per primitive, in the vertex stage: the bounding quad of the primitive's bounding sphere, in
@@ -128,12 +134,12 @@ void output_fragment(IO& io, const FragmentHit<typename IO::T>& f) {
     io.out("normal", f.normal);
 }
 
-/// Name of a fragment-stage variant: fragment_<closed|slab|bounded>[_nocull].
+/// Name of a fragment-stage variant: fragment_<ellipsoid|slab|bounded|planes>[_nocull].
 constexpr const char* fragment_kernel_name(CastOptions o) {
     if (o.planes) return o.cull ? "fragment_planes" : "fragment_planes_nocull";
     if (o.slab) return o.cull ? "fragment_slab" : "fragment_slab_nocull";
     if (o.bound) return o.cull ? "fragment_bounded" : "fragment_bounded_nocull";
-    return o.cull ? "fragment_closed" : "fragment_closed_nocull";
+    return o.cull ? "fragment_ellipsoid" : "fragment_ellipsoid_nocull";
 }
 
 /// Per fragment: cast the interpolated ray (`cast`), its window depth (`window_depth`) and the
@@ -145,7 +151,7 @@ struct FragmentCastKernel {
     static constexpr const char* summary = "incremental ray casting: a fragment's hit, depth and normal (Stoll et al. 2006, sec. 5)";
     template <class IO> static void run(IO& io) {
         using T = typename IO::T;
-        const QuadricPrimitive<T> p = primitive_inputs<Opt.planes>(io);
+        const QuadricPrimitive<T> p = primitive_inputs<Opt.planes, Opt.slab>(io);
         const LocalRay<T> r{io.template vec<3>("o"), io.template vec<3>("v"), io.template vec<3>("g"), io.template vec<3>("a")};
         const Vec3<T> vz_row = io.template vec<3>("vz_row");
         const Vec4<T> pz = io.template vec<4>("pz");
@@ -154,6 +160,7 @@ struct FragmentCastKernel {
     static void generate(std::mt19937& rng, std::span<float> in) {
         std::size_t p = 0;
         put_primitive(rng, in, p);
+        if constexpr (Opt.slab) put_caps(rng, in, p);
         if constexpr (Opt.planes)
             for (int i = 0; i < 4; ++i) put(in, p, vec4(random_direction(rng), uniform(rng, 0.0f, 2.0f)));
         const Vec3<float> o = random_direction(rng) * uniform(rng, 1.0f, 100.0f);
@@ -413,7 +420,7 @@ constexpr const char* fragment_brute_kernel_name(CastOptions o) {
     if (o.planes) return o.cull ? "fragment_planes_brute" : "fragment_planes_nocull_brute";
     if (o.slab) return o.cull ? "fragment_slab_brute" : "fragment_slab_nocull_brute";
     if (o.bound) return o.cull ? "fragment_bounded_brute" : "fragment_bounded_nocull_brute";
-    return o.cull ? "fragment_closed_brute" : "fragment_closed_nocull_brute";
+    return o.cull ? "fragment_ellipsoid_brute" : "fragment_ellipsoid_nocull_brute";
 }
 
 /// Per fragment, brute force: the local ray of the pixel's world ray (`local_ray`), then the same
@@ -425,7 +432,7 @@ struct FragmentBruteKernel {
     static constexpr const char* summary = "brute-force ray casting: a fragment's local ray, hit, depth and normal";
     template <class IO> static void run(IO& io) {
         using T = typename IO::T;
-        const QuadricPrimitive<T> p = primitive_inputs<Opt.planes>(io);
+        const QuadricPrimitive<T> p = primitive_inputs<Opt.planes, Opt.slab>(io);
         const Vec3<T> origin = io.template vec<3>("origin");
         const Vec3<T> dir = io.template vec<3>("dir");
         const Vec3<T> vz_row = io.template vec<3>("vz_row");
@@ -435,6 +442,7 @@ struct FragmentBruteKernel {
     static void generate(std::mt19937& rng, std::span<float> in) {
         std::size_t p = 0;
         put_primitive(rng, in, p);
+        if constexpr (Opt.slab) put_caps(rng, in, p);
         if constexpr (Opt.planes)
             for (int i = 0; i < 4; ++i) put(in, p, vec4(random_direction(rng), uniform(rng, 0.0f, 2.0f)));
         const Vec3<float> o = random_point(rng, 50.0f) + random_direction(rng) * uniform(rng, 1.0f, 100.0f);

@@ -209,9 +209,8 @@ Stage fragment_shader(Scheme scheme, bool ortho, bool gbuffer) {
          "uniform vec3 qc_grad_scale;   // cube-local gradient -> world gradient, per axis\n"
          "uniform float qc_pixel;       // a pixel's angle (perspective) or world width (orthographic): 2 / (P11 height)\n"
          "uniform vec3 qc_color;\n";
-    if (!gbuffer)
-        m << "uniform vec3 qc_light_dir;    // towards the scene\nuniform vec3 qc_light_color;\n"
-             "uniform vec4 qc_material;     // ambient, diffuse, specular, shininess\n";
+    if (!gbuffer) m << "uniform vec3 qc_light_dir;    // towards the scene\nuniform vec3 qc_light_color;\n";
+    m << "uniform vec4 qc_material;     // ambient, diffuse, specular, shininess\n";
     if (!tri) {
         m << "// R_t (quadcast::spline::rotation), column-major.\n"
              "const mat3 qc_rotations[" << spline::tets_per_cube << "] = mat3[](";
@@ -230,8 +229,8 @@ Stage fragment_shader(Scheme scheme, bool ortho, bool gbuffer) {
     m << "in vec3 qc_o;\n" << oq << "in float qc_w;\n" << vq << "in vec3 qc_v;\n" << vq << "in vec3 qc_dir;\n" << vq << "in float qc_vz;\n";
     if (gbuffer)
         m << "layout(location = 0) out vec4 qc_gnormal;  // normal (unnormalised), window depth\n"
-             "layout(location = 1) out vec4 qc_gview;    // ray direction, 1 (covered)\n"
-             "layout(location = 2) out vec4 qc_gcolor;   // colour, 1\n\n";
+             "layout(location = 1) out vec4 qc_gview;    // ray direction, shininess (> 0: covered)\n"
+             "layout(location = 2) out vec4 qc_gcolor;   // colour, specular\n\n";
     else
         m << "layout(location = 0) out vec4 qc_color_out;\n\n";
     m << fns.str();
@@ -245,8 +244,8 @@ Stage fragment_shader(Scheme scheme, bool ortho, bool gbuffer) {
          "    gl_FragDepth = depth;\n";
     if (gbuffer)
         m << "    qc_gnormal = vec4(n, depth);\n"
-             "    qc_gview = vec4(qc_dir, 1.0);\n"
-             "    qc_gcolor = vec4(qc_color, 1.0);\n"
+             "    qc_gview = vec4(qc_dir, qc_material.w);\n"
+             "    qc_gcolor = vec4(qc_color, qc_material.z);\n"
              "}\n";
     else
         m << "    vec3 rgb;\n"

@@ -7,6 +7,7 @@
 
 #include "quadcast/codegen/emit.hpp"
 #include "quadcast/codegen/generate.hpp"
+#include "quadcast/render/record.hpp"
 #include "quadcast/shading.hpp"
 #include "stage_builder.hpp"
 
@@ -17,23 +18,9 @@ namespace {
 using detail::add_kernel;
 using detail::Stage;
 
-/// The record of one primitive (std430): the local quadric's 10 coefficients, radius,
-/// half-length, centre, slab axis, colour. quadcast::gl::PrimitiveRecord packs it on the host.
-const char* record_glsl =
-    "struct qc_Primitive {\n"
-    "    vec4 q0;      // A00 A01 A02 A11\n"
-    "    vec4 q1;      // A12 A22 b0 b1\n"
-    "    vec4 q2;      // b2 c radius half_length\n"
-    "    vec4 center;  // xyz\n"
-    "    vec4 axis;    // xyz (slab variants)\n"
-    "    vec4 color;   // rgb\n"
-    "};\n"
-    "layout(std430, binding = 0) readonly buffer qc_Primitives { qc_Primitive qc_prims[]; };\n\n"
-    "mat4 qc_record_quadric(qc_Primitive p)\n{\n"
-    "    return mat4(p.q0.x, p.q0.y, p.q0.z, p.q1.z,\n"
-    "                p.q0.y, p.q0.w, p.q1.x, p.q1.w,\n"
-    "                p.q0.z, p.q1.x, p.q1.y, p.q2.x,\n"
-    "                p.q1.z, p.q1.w, p.q2.x, p.q2.y);\n}\n\n";
+/// The record array and its accessors (quadcast::render::record_layout, which the GL renderer
+/// packs with quadcast::render::pack_record).
+const std::string record_glsl = render::record_glsl();
 
 /// Environment reflection (forward and deferred shading): the latitude-longitude image and the
 /// reflectivity, and the lookup around the traced kernels: `environment_texel` gives the position,
@@ -81,11 +68,11 @@ Stage vertex_shader(bool ortho) {
          "    qc_Primitive p = qc_prims[prim];\n"
          "    mat4 q = qc_record_quadric(p);\n"
          "    vec3 c0, c1, c2, c3;\n    bool valid;\n"
-         "    qc_primitive_bound_" << proj << "(qc_view, p.center.xyz, p.q2.z, c0, c1, c2, c3, valid);\n"
+         "    qc_primitive_bound_" << proj << "(qc_view, qc_record_center(p), qc_record_radius(p), c0, c1, c2, c3, valid);\n"
          "    vec3 corners[4] = vec3[4](c0, c1, c2, c3);\n"
          "    vec3 corner = valid ? corners[k] : qc_near_corners[k];\n"
          "    bool culled, culled_caps;\n"
-         "    qc_primitive_vertex_" << proj << "(q, p.center.xyz, p.q2.z, p.axis.xyz, p.q2.w, corner, qc_view_rot_inv, qc_eye,\n"
+         "    qc_primitive_vertex_" << proj << "(q, qc_record_center(p), qc_record_radius(p), qc_record_axis(p), qc_record_half_length(p), corner, qc_view_rot_inv, qc_eye,\n"
          "        qc_o, qc_v, qc_g, qc_a, culled, culled_caps);\n"
          "    qc_prim = prim;\n"
          "    gl_Position = (qc_cull && (qc_caps ? culled_caps : culled)) ? vec4(2.0, 2.0, 2.0, 1.0) : qc_projection * vec4(corner, 1.0);\n"
@@ -110,7 +97,7 @@ Stage sphere_vertex_shader(bool ortho) {
     m << "uniform mat4 qc_view;\nuniform mat4 qc_projection;\nuniform mat3 qc_view_rot_inv;\nuniform vec3 qc_eye;\n"
          "uniform vec3 qc_near_corners[4];  // view space, used when the eye is inside a bounding sphere\n"
          "uniform uint qc_first;\n\n"
-         "flat out float qc_radius;\nflat out vec3 qc_prim_color;\n"
+         "flat out float qc_radius;\nflat out vec3 qc_prim_color;\nflat out vec2 qc_prim_material;  // specular, shininess\n"
       << q << "out vec3 qc_o;\n" << vq << "out vec3 qc_v;\n\n";
     m << fns.str();
     m << "// Indexed draw: vertex 4 i + k is corner k of primitive qc_first + i (two triangles share two).\n"
@@ -119,12 +106,13 @@ Stage sphere_vertex_shader(bool ortho) {
          "    int k = gl_VertexID % 4;\n"
          "    qc_Primitive p = qc_prims[prim];\n"
          "    vec3 c0, c1, c2, c3;\n    bool valid;\n"
-         "    qc_primitive_bound_" << proj << "(qc_view, p.center.xyz, p.q2.z, c0, c1, c2, c3, valid);\n"
+         "    qc_primitive_bound_" << proj << "(qc_view, qc_record_center(p), qc_record_radius(p), c0, c1, c2, c3, valid);\n"
          "    vec3 corners[4] = vec3[4](c0, c1, c2, c3);\n"
          "    vec3 corner = valid ? corners[k] : qc_near_corners[k];\n"
-         "    qc_sphere_vertex_" << proj << "(p.center.xyz, corner, qc_view_rot_inv, qc_eye, qc_o, qc_v);\n"
-         "    qc_radius = p.q2.z;\n"
-         "    qc_prim_color = p.color.rgb;\n"
+         "    qc_sphere_vertex_" << proj << "(qc_record_center(p), corner, qc_view_rot_inv, qc_eye, qc_o, qc_v);\n"
+         "    qc_radius = qc_record_radius(p);\n"
+         "    qc_prim_color = qc_record_color(p);\n"
+         "    qc_prim_material = qc_record_material(p);\n"
          "    gl_Position = qc_projection * vec4(corner, 1.0);\n"
          "}\n";
     s.text = m.str();
@@ -139,6 +127,7 @@ Stage fragment_shader(const std::string& variant, bool ortho, bool gbuffer = fal
     Stage s;
     const bool planes = variant.rfind("planes", 0) == 0;
     const bool sphere = variant.rfind("sphere", 0) == 0;  // radius, colour, o, v from the vertex stage
+    const bool slab = variant.rfind("slab", 0) == 0;
     std::ostringstream fns;
     if (brute) add_kernel(s, fns, "pixel_ray");
     add_kernel(s, fns, "fragment_" + variant + (brute ? "_brute" : ""));
@@ -167,14 +156,14 @@ Stage fragment_shader(const std::string& variant, bool ortho, bool gbuffer = fal
              "uniform vec4 qc_material;     // ambient, diffuse, specular, shininess\n";
     if (env) m << environment_uniforms;
     if (sphere)
-        m << "\nflat in float qc_radius;\nflat in vec3 qc_prim_color;\n" << q << "in vec3 qc_o;\n" << vq << "in vec3 qc_v;\n";
+        m << "\nflat in float qc_radius;\nflat in vec3 qc_prim_color;\nflat in vec2 qc_prim_material;\n" << q << "in vec3 qc_o;\n" << vq << "in vec3 qc_v;\n";
     else
         m << "\nflat in uint qc_prim;\n"
           << q << "in vec3 qc_o;\n" << vq << "in vec3 qc_v;\n" << q << "in vec3 qc_g;\n" << vq << "in vec3 qc_a;\n";
     if (gbuffer)
         m << "layout(location = 0) out vec4 qc_gnormal;  // normal (unnormalised), window depth\n"
-             "layout(location = 1) out vec4 qc_gview;    // ray direction, 1 (covered)\n"
-             "layout(location = 2) out vec4 qc_gcolor;   // colour, 1\n\n";
+             "layout(location = 1) out vec4 qc_gview;    // ray direction, shininess (> 0: covered)\n"
+             "layout(location = 2) out vec4 qc_gcolor;   // colour, specular\n\n";
     else
         m << "layout(location = 0) out vec4 qc_color;\n\n";
     m << fns.str();
@@ -185,23 +174,25 @@ Stage fragment_shader(const std::string& variant, bool ortho, bool gbuffer = fal
         m << "    vec3 ro, rd;\n"
              "    qc_pixel_ray(qc_inv_view_proj, qc_eye, gl_FragCoord.xy, qc_viewport, ro, rd);\n";
     const char* eye_vec = brute ? "rd" : "qc_v";
-    const char* color = sphere ? "qc_prim_color" : "p.color.rgb";
+    const char* color = sphere ? "qc_prim_color" : "qc_record_color(p)";
+    const char* material = sphere ? "qc_prim_material" : "qc_record_material(p)";
     if (sphere)
         m << "    qc_fragment_" << variant << "(qc_radius, qc_o, qc_v, qc_vz_row, qc_pz, hit, depth, n);\n";
     else
-        m << "    qc_fragment_" << variant << (brute ? "_brute" : "") << "(qc_record_quadric(p), p.center.xyz, p.q2.z, p.axis.xyz, p.q2.w,\n"
+        m << "    qc_fragment_" << variant << (brute ? "_brute" : "") << "(qc_record_quadric(p), qc_record_center(p), qc_record_radius(p), qc_record_axis(p), qc_record_half_length(p),\n"
+          << (slab ? "        qc_record_caps(p),\n" : "")
           << (planes ? "        qc_planes[qc_prim - qc_first].p[0], qc_planes[qc_prim - qc_first].p[1], qc_planes[qc_prim - qc_first].p[2], qc_planes[qc_prim - qc_first].p[3],\n" : "")
           << (brute ? "        ro, rd, qc_vz_row, qc_pz, hit, depth, n);\n" : "        qc_o, qc_v, qc_g, qc_a, qc_vz_row, qc_pz, hit, depth, n);\n");
     m << "    if (!hit) discard;\n"
          "    gl_FragDepth = depth;\n";
     if (gbuffer)
         m << "    qc_gnormal = vec4(n, depth);\n"
-             "    qc_gview = vec4(" << eye_vec << ", 1.0);\n"
-          << "    qc_gcolor = vec4(" << color << ", 1.0);\n"
+             "    qc_gview = vec4(" << eye_vec << ", " << material << ".y);\n"
+          << "    qc_gcolor = vec4(" << color << ", " << material << ".x);\n"
              "}\n";
     else
         m << "    vec3 rgb;\n"
-             "    qc_shade_blinn_phong(n, -qc_light_dir, -" << eye_vec << ", " << color << ", qc_light_color, qc_material, rgb);\n"
+             "    qc_shade_blinn_phong(n, -qc_light_dir, -" << eye_vec << ", " << color << ", qc_light_color, vec4(qc_material.xy, " << material << "), rgb);\n"
           << (env ? std::string("    rgb = qc_reflect_environment(rgb, n, -") + eye_vec + ");\n" : std::string())
           << "    qc_color = vec4(rgb, 1.0);\n"
              "}\n";
@@ -238,8 +229,8 @@ Stage deferred_shader(bool silhouettes, bool shadows, bool env) {
     }
     std::ostringstream m;
     m << "layout(binding = 0) uniform sampler2D qc_gnormal;  // normal, window depth (1 = background)\n"
-         "layout(binding = 1) uniform sampler2D qc_gview;    // ray direction, covered (0 or 1)\n"
-         "layout(binding = 2) uniform sampler2D qc_gcolor;   // colour\n"
+         "layout(binding = 1) uniform sampler2D qc_gview;    // ray direction, shininess (0: background)\n"
+         "layout(binding = 2) uniform sampler2D qc_gcolor;   // colour, specular\n"
          "uniform vec3 qc_light_dir;    // towards the scene\nuniform vec3 qc_light_color;\n"
          "uniform vec4 qc_material;     // ambient, diffuse, specular, shininess\n"
          "uniform vec3 qc_background;\n";
@@ -271,6 +262,7 @@ Stage deferred_shader(bool silhouettes, bool shadows, bool env) {
          "    ivec2 px = ivec2(gl_FragCoord.xy);\n"
          "    vec4 gn = texelFetch(qc_gnormal, px, 0);\n"
          "    vec4 gv = texelFetch(qc_gview, px, 0);\n"
+         "    vec4 gc = texelFetch(qc_gcolor, px, 0);\n"
          "    vec3 rgb = qc_background;\n"
          "    if (gv.w != 0.0) {\n";
     if (shadows)
@@ -288,9 +280,9 @@ Stage deferred_shader(bool silhouettes, bool shadows, bool env) {
         for (int i = 0; i < 64; ++i) m << (i % 8 == 0 ? ",\n                " : ", ") << "s[" << i << "]";
         m << ", vis);\n"
              "        }\n"
-             "        qc_shade_blinn_phong_shadowed(gn.xyz, -qc_light_dir, -gv.xyz, texelFetch(qc_gcolor, px, 0).rgb, qc_light_color, qc_material, vis, rgb);\n";
+             "        qc_shade_blinn_phong_shadowed(gn.xyz, -qc_light_dir, -gv.xyz, gc.rgb, qc_light_color, vec4(qc_material.xy, gc.w, gv.w), vis, rgb);\n";
     } else {
-        m << "        qc_shade_blinn_phong(gn.xyz, -qc_light_dir, -gv.xyz, texelFetch(qc_gcolor, px, 0).rgb, qc_light_color, qc_material, rgb);\n";
+        m << "        qc_shade_blinn_phong(gn.xyz, -qc_light_dir, -gv.xyz, gc.rgb, qc_light_color, vec4(qc_material.xy, gc.w, gv.w), rgb);\n";
     }
     if (env) m << "        rgb = qc_reflect_environment(rgb, gn.xyz, -gv.xyz);\n";
     m << "    }\n";
@@ -324,7 +316,7 @@ std::vector<StageShader> render_stage_shaders() {
         const std::string svname = "qc_sphere_" + proj + ".vert";
         out.push_back({svname, "glsl/render/" + svname,
                        "#version 450 core\n" + banner("glsl/render/" + svname, sv.sources, sv.ops, "quadric renderer: vertex stage of the sphere variant, " + proj + " camera") + "\n" + sv.text});
-        for (const char* variant : {"closed", "closed_nocull", "slab", "slab_nocull", "bounded", "bounded_nocull", "planes", "planes_nocull", "sphere", "sphere_nocull"}) {
+        for (const char* variant : {"ellipsoid", "ellipsoid_nocull", "slab", "slab_nocull", "bounded", "bounded_nocull", "planes", "planes_nocull", "sphere", "sphere_nocull"}) {
             const Stage f = fragment_shader(variant, ortho);
             const std::string fname = std::string("qc_quadric_") + variant + "_" + proj + ".frag";
             out.push_back({fname, "glsl/render/" + fname,
@@ -343,7 +335,7 @@ std::vector<StageShader> render_stage_shaders() {
     // brute-force fragment stage (the pixel's ray from gl_FragCoord, `pixel_ray`, then
     // `local_ray` and `cast` per fragment) and a pass-through fragment stage (constant colour,
     // rasterised depth) that bounds the fill rate.
-    for (const char* variant : {"closed", "closed_nocull", "slab", "slab_nocull", "bounded", "bounded_nocull", "planes", "planes_nocull"}) {
+    for (const char* variant : {"ellipsoid", "ellipsoid_nocull", "slab", "slab_nocull", "bounded", "bounded_nocull", "planes", "planes_nocull"}) {
         const Stage f = fragment_shader(variant, false, false, true);
         const std::string fname = std::string("qc_quadric_") + variant + "_brute_perspective.frag";
         out.push_back({fname, "glsl/render/" + fname,

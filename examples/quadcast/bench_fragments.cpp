@@ -18,6 +18,7 @@
 #include <random>
 #include <vector>
 
+#include "quadcast/camera.hpp"
 #include "commands.hpp"
 #include "quadcast/gl/osmesa_context.hpp"
 #include "quadcast/gl/quadric_renderer.hpp"
@@ -46,7 +47,7 @@ std::vector<render::Primitive> fragments_scene(int n, int m, float scale, unsign
         p.shape.radius = r;
         p.shape.axis = vec3(0.0f, 0.0f, 1.0f);
         p.shape.half_length = std::numeric_limits<float>::infinity();
-        p.variant = render::Variant::closed;
+        p.variant = render::Variant::ellipsoid;
         p.color = vec3(c(rng), c(rng), c(rng));
         out.push_back(p);
     }
@@ -89,8 +90,8 @@ void run_fragments(const FragmentsOptions& o) {
     r.set_primitives(fragments_scene(o.spheres, o.cylinders, o.scale, 11));
     render::Camera cam;
     const double aspect = static_cast<double>(o.width) / o.height;
-    cam.view = cast<float>(render::look_at(vec3(0.5, 0.5, 2.4), vec3(0.5, 0.5, 0.5), vec3(0.0, 1.0, 0.0)));
-    cam.projection = cast<float>(render::perspective(30.0, aspect, 0.5, 5.0));
+    cam.view = cast<float>(quadcast::look_at(vec3(0.5, 0.5, 2.4), vec3(0.5, 0.5, 0.5), vec3(0.0, 1.0, 0.0)));
+    cam.projection = cast<float>(quadcast::perspective(30.0, aspect, 0.5, 5.0));
     cam.eye = vec3(0.5f, 0.5f, 2.4f);
     render::Light light;
     light.direction = vec3(-0.4f, -0.6f, -1.0f);

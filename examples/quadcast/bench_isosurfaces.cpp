@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "quadcast/camera.hpp"
 #include "commands.hpp"
 #include "timing.hpp"
 #include "image_io.hpp"
@@ -47,8 +48,8 @@ render::Camera view_of(const render::VolumeModel& m, double distance, int w, int
     const Vec3<double> eye = c + (distance * r) * dir;
     const double fov = 40.0;
     const double far = (distance + 1.5) * r, near = std::max(1e-3 * r, (distance - 1.2) * r);
-    return render::Camera{cast<float>(render::look_at(eye, c, Vec3<double>{{0.0, 0.0, 1.0}})),
-                          cast<float>(render::perspective(fov, double(w) / h, near, far)), cast<float>(eye), false};
+    return render::Camera{cast<float>(quadcast::look_at(eye, c, Vec3<double>{{0.0, 0.0, 1.0}})),
+                          cast<float>(quadcast::perspective(fov, double(w) / h, near, far)), cast<float>(eye), false};
 }
 
 struct Gl {

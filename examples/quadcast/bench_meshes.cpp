@@ -37,6 +37,7 @@
 #include <string>
 #include <vector>
 
+#include "quadcast/camera.hpp"
 #include "commands.hpp"
 #include "timing.hpp"
 #include "image_io.hpp"
@@ -71,7 +72,7 @@ std::vector<render::Primitive> random_spheres(int n, unsigned seed) {
         p.shape.radius = r;
         p.shape.axis = vec3(0.0f, 0.0f, 1.0f);
         p.shape.half_length = std::numeric_limits<float>::infinity();
-        p.variant = render::Variant::closed;
+        p.variant = render::Variant::ellipsoid;
         p.color = vec3(c(rng), c(rng), c(rng));
     }
     return out;
@@ -250,8 +251,8 @@ void run_meshes(const MeshesOptions& o) {
     std::printf("%s\n", ctx.info().summary().c_str());
     render::Camera cam;
     const double aspect = static_cast<double>(o.width) / o.height;
-    cam.view = cast<float>(render::look_at(vec3(0.5, 0.5, 3.2), vec3(0.5, 0.5, 0.5), vec3(0.0, 1.0, 0.0)));
-    cam.projection = cast<float>(render::perspective(30.0, aspect, 1.0, 5.0));
+    cam.view = cast<float>(quadcast::look_at(vec3(0.5, 0.5, 3.2), vec3(0.5, 0.5, 0.5), vec3(0.0, 1.0, 0.0)));
+    cam.projection = cast<float>(quadcast::perspective(30.0, aspect, 1.0, 5.0));
     cam.eye = vec3(0.5f, 0.5f, 3.2f);
     const double focal_px = static_cast<double>(cam.projection[1][1]) * o.height / 2.0;
     render::Light light;

@@ -5,7 +5,7 @@
 // sphere-specialised variant (Variant::sphere). Prints the median frame time over the frames
 // after a warm-up, and the ratio to the fps quoted for VTK 9.1's vtkOpenGLSphereMapper on this
 // machine (10.1 / 3.6 / 0.46 fps at 10k/100k/1M). With --compare the general closed-quadric
-// variant (Variant::closed) draws the same spheres too, frame by frame interleaved with the
+// variant (Variant::ellipsoid) draws the same spheres too, frame by frame interleaved with the
 // sphere variant in one run (the machine's load changes both alike), and the ratio is printed.
 #include <algorithm>
 #include <chrono>
@@ -16,6 +16,7 @@
 #include <random>
 #include <vector>
 
+#include "quadcast/camera.hpp"
 #include "commands.hpp"
 #include "timing.hpp"
 #include "quadcast/gl/osmesa_context.hpp"
@@ -65,8 +66,8 @@ void run_spheres(const SpheresOptions& o) {
     if (o.compare) general = std::make_unique<gl::QuadricRenderer>(ctx.api());
     render::Camera cam;
     const double aspect = static_cast<double>(o.width) / o.height;
-    cam.view = cast<float>(render::look_at(vec3(0.5, 0.5, 3.2), vec3(0.5, 0.5, 0.5), vec3(0.0, 1.0, 0.0)));
-    cam.projection = cast<float>(render::perspective(30.0, aspect, 1.0, 5.0));
+    cam.view = cast<float>(quadcast::look_at(vec3(0.5, 0.5, 3.2), vec3(0.5, 0.5, 0.5), vec3(0.0, 1.0, 0.0)));
+    cam.projection = cast<float>(quadcast::perspective(30.0, aspect, 1.0, 5.0));
     cam.eye = vec3(0.5f, 0.5f, 3.2f);
     render::Light light;
     light.direction = vec3(-0.4f, -0.6f, -1.0f);
@@ -83,7 +84,7 @@ void run_spheres(const SpheresOptions& o) {
         r.set_primitives(random_spheres(n, 7, render::Variant::sphere));
         r.draw(cam, light, ro);  // warm-up
         if (general) {
-            general->set_primitives(random_spheres(n, 7, render::Variant::closed));
+            general->set_primitives(random_spheres(n, 7, render::Variant::ellipsoid));
             general->draw(cam, light, ro);
         }
         std::vector<double> ms, ms_general;

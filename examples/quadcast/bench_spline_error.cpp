@@ -25,6 +25,7 @@
 // Times, one run, on the CPU: preprocessing (the method's `prepare`), and the median of
 // `--frames` frames after one untimed frame (whose λ image is the one measured); a frame is the
 // λ image of all pixels, no shading. Ratios are relative to trilinear at the same n.
+#include "quadcast/camera.hpp"
 #include "bench_spline_error.hpp"
 
 #include <algorithm>
@@ -422,8 +423,8 @@ render::Camera bench_camera(double lo, double hi, double box_radius) {
     const Vec3<double> centre{{c, c, c}};
     const Vec3<double> eye = centre + dir * (3.0 * R);
     render::Camera cam;
-    cam.view = cast<float>(render::look_at(eye, centre, Vec3<double>{{0.0, 0.0, 1.0}}));
-    cam.projection = cast<float>(render::orthographic(2.0 * box_radius, 1.0, R, 5.0 * R));
+    cam.view = cast<float>(quadcast::look_at(eye, centre, Vec3<double>{{0.0, 0.0, 1.0}}));
+    cam.projection = cast<float>(quadcast::orthographic(2.0 * box_radius, 1.0, R, 5.0 * R));
     cam.eye = cast<float>(eye);
     cam.orthographic = true;
     return cam;

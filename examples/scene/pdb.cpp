@@ -346,8 +346,8 @@ void append_molecule(Scene& scene, const Molecule& m, const MoleculeLook& look, 
         const Atom& x = m.atoms[std::size_t(b.a)];
         const Atom& y = m.atoms[std::size_t(b.b)];
         const Vec3d mid = (x.position + y.position) * 0.5;
-        scene.cylinders.push_back({x.position, mid, look.bond_radius, false, material_of(x)});
-        scene.cylinders.push_back({mid, y.position, look.bond_radius, false, material_of(y)});
+        scene.cylinders.push_back({x.position, mid, look.bond_radius, true, material_of(x)});
+        scene.cylinders.push_back({mid, y.position, look.bond_radius, true, material_of(y)});
     }
 }
 

@@ -23,8 +23,8 @@ using Mat4d = quadcast::Mat<double, 4, 4>;
 /// highlight; `shininess` > 0 is the Phong exponent.
 struct Material {
     Vec3d color{{0.8, 0.8, 0.8}};
-    double specular = 0.3;
-    double shininess = 32.0;
+    double specular = 0.35;
+    double shininess = 48.0;
 };
 
 enum class Projection { perspective, orthographic };

@@ -1,6 +1,7 @@
 // quadcast/quadric.hpp -- quadrics as symmetric homogeneous 4x4 matrices: conversions, evaluation, transforms
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <concepts>
 #include <limits>
@@ -174,23 +175,27 @@ Quadric<T> transform_with_inverse(const Quadric<T>& q, const Mat4<T>& m_inv) {
 }
 
 /// Host-only: the inverse of a 4x4 matrix by Gauss-Jordan elimination with partial pivoting in
-/// long double, rounded to T. Throws std::invalid_argument if M has a non-finite entry or is
-/// singular (a zero pivot). Not for tracing.
+/// long double, rounded to T; the one host 4x4 inverse of the library. Throws
+/// std::invalid_argument if M has a non-finite entry, is zero, or is singular (a pivot at most
+/// 1e-12 times the largest entry). Not for tracing.
 template <std::floating_point T>
 Mat4<T> host_inverse(const Mat4<T>& m) {
     long double a[4][8];
+    long double scale = 0;
     for (int i = 0; i < 4; ++i)
         for (int j = 0; j < 4; ++j) {
             if (!std::isfinite(m[j][i])) throw std::invalid_argument("quadcast::host_inverse: non-finite matrix entry");
             a[i][j] = static_cast<long double>(m[j][i]);
             a[i][4 + j] = (i == j) ? 1.0L : 0.0L;
+            scale = std::max(scale, std::fabs(a[i][j]));
         }
+    if (scale == 0) throw std::invalid_argument("quadcast::host_inverse: zero matrix");
     for (int k = 0; k < 4; ++k) {
         // Pick the largest pivot in column k.
         int p = k;
         for (int i = k + 1; i < 4; ++i)
             if (std::fabs(a[i][k]) > std::fabs(a[p][k])) p = i;
-        if (a[p][k] == 0.0L) throw std::invalid_argument("quadcast::host_inverse: singular matrix");
+        if (std::fabs(a[p][k]) <= 1e-12L * scale) throw std::invalid_argument("quadcast::host_inverse: singular matrix");
         if (p != k)
             for (int j = 0; j < 8; ++j) std::swap(a[p][j], a[k][j]);
         // Normalise row k and eliminate column k from the other rows.

@@ -13,7 +13,8 @@ namespace quadcast {
 /// A quadric primitive as a renderer stores it: the quadric in LOCAL coordinates
 /// (x_local = x_world - center, which keeps its coefficients small and the re-origined
 /// discriminant accurate), clipped to the bounding sphere (center, radius) and, for cylinders
-/// and cones, to the slab |dot(axis, x_local)| <= half_length closed by flat caps.
+/// and cones, to the slab |dot(axis, x_local)| <= half_length, each end closed by a flat cap or
+/// left open.
 template <class T>
 struct QuadricPrimitive {
     Quadric<T> q;
@@ -21,6 +22,9 @@ struct QuadricPrimitive {
     T radius;
     Vec3<T> axis;     ///< unit slab axis (used by the `slab` variants only)
     T half_length;
+    /// Caps of the slab variants: caps[0] closes the end dot(axis, x) = +half_length, caps[1]
+    /// the end -half_length; 1 = closed by a disc, 0 = open.
+    Vec2<T> caps{{T(1), T(1)}};
     /// Inward planes (local coordinates) of a convex clip volume, for the `planes` variants: the
     /// faces of a bounding tetrahedron (bilinear quads, tetrahedral quadric patches), or the edge
     /// planes of a planar quad, scaled as barycentric coordinates (see `inside_planes`).
@@ -125,13 +129,14 @@ Candidate<T> nearer(const Candidate<T>& a, const Candidate<T>& b) {
 ///   farther one where the nearer fails the clip (eq. 15, corrected: `roots_near_first`).
 /// - bound: the hit must lie in the bounding sphere, |x|^2 <= radius^2.
 /// - planes: the hit must lie inside the four planes (`inside_tet`).
-/// - slab: the hit must lie in the slab; the caps dot(axis, x) = +-half_length are hit where the
-///   quadric's inside (f <= 0) is, with normal +-axis; with cull only the caps facing the ray.
+/// - slab: the hit must lie in the slab; the caps dot(axis, x) = +-half_length that are closed
+///   (caps[0], caps[1] > 0) are hit where the quadric's inside (f <= 0) is, with normal +-axis;
+///   with cull only the caps facing the ray.
 /// - sphere: the quadric is the sphere |x| = radius (`ray_quadratic_sphere`), normal o + lambda v.
 /// The nearest candidate wins. Normal of a quadric hit: A x + b = g + lambda a (eq. 11).
 /// Numerics: see the functions named; the cap parameter is (s h - dot(axis, o)) / dot(axis, v).
 template <CastOptions Opt, class T>
-CastHit<T> cast(const QuadricPrimitive<T>& p, const LocalRay<T>& r) {
+CastHit<T> cast_ray(const QuadricPrimitive<T>& p, const LocalRay<T>& r) {
     using namespace raycast_detail;
     const T r2 = p.radius * p.radius;
     const RayQuadratic<T> rq = [&] {
@@ -170,7 +175,7 @@ CastHit<T> cast(const QuadricPrimitive<T>& p, const LocalRay<T>& r) {
             const T sign = s == 0 ? T(1) : T(-1);
             const T lambda = (sign * p.half_length - ao) / den;
             const Vec3<T> x = r.o + lambda * r.v;
-            mask_t<T> ok = (ok_den && lambda > T(0)) && (evaluate(p.q, x) <= T(0));
+            mask_t<T> ok = ((ok_den && lambda > T(0)) && (evaluate(p.q, x) <= T(0))) && (p.caps[s] > T(0));
             if constexpr (Opt.bound) ok = ok && dot(x, x) <= r2;
             if constexpr (Opt.cull) ok = ok && (sign * av < T(0));
             best = nearer(best, Candidate<T>{ok, lambda, sign * p.axis});
@@ -199,12 +204,12 @@ struct FragmentHit {
     Vec3<T> normal;
 };
 
-/// `cast` then `window_depth` for a ray whose origin lies in the camera plane; vz_row is the
+/// `cast_ray` then `window_depth` for a ray whose origin lies in the camera plane; vz_row is the
 /// third row of the world -> view rotation. The one definition of a fragment's hit for the GL
 /// fragment stages (incremental and brute force) and the CPU reference renderer.
 template <CastOptions Opt, class T>
 FragmentHit<T> cast_and_depth(const QuadricPrimitive<T>& p, const LocalRay<T>& r, const Vec3<T>& vz_row, const Vec4<T>& pz) {
-    const CastHit<T> h = cast<Opt>(p, r);
+    const CastHit<T> h = cast_ray<Opt>(p, r);
     const T depth = window_depth(h.lambda, dot(vz_row, r.v), pz);
     return {(h.hit && depth >= T(0)) && depth <= T(1), depth, h.normal};
 }

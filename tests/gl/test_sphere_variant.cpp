@@ -57,7 +57,7 @@ std::vector<render::Primitive> random_spheres(unsigned seed, int n, Variant vari
 TEST_CASE("sphere variant: the GL renderer draws what the CPU reference draws, and what the general variant draws") {
     gl::OsmesaContext ctx;
     gl::QuadricRenderer sphere_r(ctx.api()), closed_r(ctx.api());
-    const std::vector<render::Primitive> spheres = random_spheres(21, 300, Variant::sphere), closed = random_spheres(21, 300, Variant::closed);
+    const std::vector<render::Primitive> spheres = random_spheres(21, 300, Variant::sphere), closed = random_spheres(21, 300, Variant::ellipsoid);
     sphere_r.set_primitives(spheres);
     closed_r.set_primitives(closed);
     Light light;

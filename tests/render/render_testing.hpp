@@ -110,7 +110,7 @@ inline Primitive sphere(const Vec3<float>& c, float r, Vec3<float> color = vec3(
     p.shape.radius = r;
     p.shape.axis = vec3(0.0f, 0.0f, 1.0f);
     p.shape.half_length = std::numeric_limits<float>::infinity();
-    p.variant = Variant::closed;
+    p.variant = Variant::ellipsoid;
     p.color = color;
     return p;
 }
@@ -145,7 +145,7 @@ inline Primitive ellipsoid(const Vec3<float>& c, const Vec3<double> e[3], const 
     p.shape.radius = float(std::max({s[0], s[1], s[2]}) * 1.0001);
     p.shape.axis = vec3(0.0f, 0.0f, 1.0f);
     p.shape.half_length = std::numeric_limits<float>::infinity();
-    p.variant = Variant::closed;
+    p.variant = Variant::ellipsoid;
     p.color = color;
     return p;
 }

@@ -7,8 +7,8 @@
 // reassociation); literals are exact; no built-in whose rounding differs from the CPU.
 
 layout(binding = 0) uniform sampler2D qc_gnormal;  // normal, window depth (1 = background)
-layout(binding = 1) uniform sampler2D qc_gview;    // ray direction, covered (0 or 1)
-layout(binding = 2) uniform sampler2D qc_gcolor;   // colour
+layout(binding = 1) uniform sampler2D qc_gview;    // ray direction, shininess (0: background)
+layout(binding = 2) uniform sampler2D qc_gcolor;   // colour, specular
 uniform vec3 qc_light_dir;    // towards the scene
 uniform vec3 qc_light_color;
 uniform vec4 qc_material;     // ambient, diffuse, specular, shininess
@@ -113,9 +113,10 @@ void main()
     ivec2 px = ivec2(gl_FragCoord.xy);
     vec4 gn = texelFetch(qc_gnormal, px, 0);
     vec4 gv = texelFetch(qc_gview, px, 0);
+    vec4 gc = texelFetch(qc_gcolor, px, 0);
     vec3 rgb = qc_background;
     if (gv.w != 0.0) {
-        qc_shade_blinn_phong(gn.xyz, -qc_light_dir, -gv.xyz, texelFetch(qc_gcolor, px, 0).rgb, qc_light_color, qc_material, rgb);
+        qc_shade_blinn_phong(gn.xyz, -qc_light_dir, -gv.xyz, gc.rgb, qc_light_color, vec4(qc_material.xy, gc.w, gv.w), rgb);
     }
     qc_color = vec4(rgb, 1.0);
 }

@@ -6,23 +6,31 @@
 // Numerics: float; every operation is its own `precise` statement (no contraction, no
 // reassociation); literals are exact; no built-in whose rounding differs from the CPU.
 
-struct qc_Primitive {
-    vec4 q0;      // A00 A01 A02 A11
-    vec4 q1;      // A12 A22 b0 b1
-    vec4 q2;      // b2 c radius half_length
-    vec4 center;  // xyz
-    vec4 axis;    // xyz (slab variants)
-    vec4 color;   // rgb
+struct qc_Primitive {  // quadcast::render::record_layout
+    vec4 s0;  // A00 A01 A02 A11
+    vec4 s1;  // A12 A22 b0 b1
+    vec4 s2;  // b2 c radius half_length
+    vec4 s3;  // center.x center.y center.z specular
+    vec4 s4;  // axis.x axis.y axis.z shininess
+    vec4 s5;  // red green blue 0
+    vec4 s6;  // cap+ cap- 0 0
 };
 layout(std430, binding = 0) readonly buffer qc_Primitives { qc_Primitive qc_prims[]; };
 
 mat4 qc_record_quadric(qc_Primitive p)
 {
-    return mat4(p.q0.x, p.q0.y, p.q0.z, p.q1.z,
-                p.q0.y, p.q0.w, p.q1.x, p.q1.w,
-                p.q0.z, p.q1.x, p.q1.y, p.q2.x,
-                p.q1.z, p.q1.w, p.q2.x, p.q2.y);
+    return mat4(p.s0.x, p.s0.y, p.s0.z, p.s1.z,
+                p.s0.y, p.s0.w, p.s1.x, p.s1.w,
+                p.s0.z, p.s1.x, p.s1.y, p.s2.x,
+                p.s1.z, p.s1.w, p.s2.x, p.s2.y);
 }
+vec3 qc_record_center(qc_Primitive p) { return vec3(p.s3.x, p.s3.y, p.s3.z); }
+float qc_record_radius(qc_Primitive p) { return p.s2.z; }
+vec3 qc_record_axis(qc_Primitive p) { return vec3(p.s4.x, p.s4.y, p.s4.z); }
+float qc_record_half_length(qc_Primitive p) { return p.s2.w; }
+vec2 qc_record_caps(qc_Primitive p) { return vec2(p.s6.x, p.s6.y); }
+vec3 qc_record_color(qc_Primitive p) { return vec3(p.s5.x, p.s5.y, p.s5.z); }
+vec2 qc_record_material(qc_Primitive p) { return vec2(p.s3.w, p.s4.w); }
 
 uniform vec3 qc_vz_row;       // third row of the world->view rotation
 uniform vec4 qc_pz;           // P22, P32, P23, P33 of the projection
@@ -33,10 +41,10 @@ in vec3 qc_v;
 flat in vec3 qc_g;
 in vec3 qc_a;
 layout(location = 0) out vec4 qc_gnormal;  // normal (unnormalised), window depth
-layout(location = 1) out vec4 qc_gview;    // ray direction, 1 (covered)
-layout(location = 2) out vec4 qc_gcolor;   // colour, 1
+layout(location = 1) out vec4 qc_gview;    // ray direction, shininess (> 0: covered)
+layout(location = 2) out vec4 qc_gcolor;   // colour, specular
 
-void qc_fragment_slab_nocull(in mat4 qc_q, in vec3 qc_center, in float qc_radius, in vec3 qc_axis, in float qc_half_length, in vec3 qc_o, in vec3 qc_v, in vec3 qc_g, in vec3 qc_a, in vec3 qc_vz_row, in vec4 qc_pz, out bool qc_hit, out float qc_depth, out vec3 qc_normal)
+void qc_fragment_slab_nocull(in mat4 qc_q, in vec3 qc_center, in float qc_radius, in vec3 qc_axis, in float qc_half_length, in vec2 qc_caps, in vec3 qc_o, in vec3 qc_v, in vec3 qc_g, in vec3 qc_a, in vec3 qc_vz_row, in vec4 qc_pz, out bool qc_hit, out float qc_depth, out vec3 qc_normal)
 {
     precise float qc_t0 = qc_v.x * qc_a.x;
     precise float qc_t1 = qc_v.y * qc_a.y;
@@ -222,116 +230,120 @@ void qc_fragment_slab_nocull(in mat4 qc_q, in vec3 qc_center, in float qc_radius
     precise float qc_t181 = qc_t154 + qc_t180;
     precise bool qc_t182 = qc_t181 <= 0.0;
     precise bool qc_t183 = qc_t140 && qc_t182;
-    precise bool qc_t184 = qc_t123 || qc_t183;
-    precise float qc_t185 = (-1.0) * qc_half_length;
-    precise float qc_t186 = qc_t185 - qc_t135;
-    precise float qc_t187 = qc_t186 / qc_t137;
-    precise bool qc_t188 = qc_t187 > 0.0;
-    precise bool qc_t189 = qc_t129 && qc_t188;
-    precise float qc_t190 = qc_v.z * qc_t187;
-    precise float qc_t191 = qc_t190 + qc_o.z;
-    precise float qc_t192 = qc_t191 * qc_q[2][1];
-    precise float qc_t193 = qc_v.y * qc_t187;
-    precise float qc_t194 = qc_t193 + qc_o.y;
-    precise float qc_t195 = qc_q[1][1] * qc_t194;
-    precise float qc_t196 = qc_v.x * qc_t187;
-    precise float qc_t197 = qc_o.x + qc_t196;
-    precise float qc_t198 = qc_t197 * qc_q[0][1];
-    precise float qc_t199 = qc_t195 + qc_t198;
-    precise float qc_t200 = qc_t192 + qc_t199;
-    precise float qc_t201 = qc_t155 + qc_t200;
-    precise float qc_t202 = qc_t201 * qc_t194;
-    precise float qc_t203 = qc_t191 * qc_q[2][0];
-    precise float qc_t204 = qc_q[0][0] * qc_t197;
-    precise float qc_t205 = qc_t194 * qc_q[1][0];
-    precise float qc_t206 = qc_t204 + qc_t205;
-    precise float qc_t207 = qc_t203 + qc_t206;
-    precise float qc_t208 = qc_t207 + qc_t168;
-    precise float qc_t209 = qc_t197 * qc_t208;
-    precise float qc_t210 = qc_t202 + qc_t209;
-    precise float qc_t211 = qc_t197 * qc_q[0][2];
-    precise float qc_t212 = qc_q[1][2] * qc_t194;
-    precise float qc_t213 = qc_t211 + qc_t212;
-    precise float qc_t214 = qc_t191 * qc_q[2][2];
+    precise bool qc_t184 = qc_caps.x > 0.0;
+    precise bool qc_t185 = qc_t183 && qc_t184;
+    precise bool qc_t186 = qc_t123 || qc_t185;
+    precise float qc_t187 = (-1.0) * qc_half_length;
+    precise float qc_t188 = qc_t187 - qc_t135;
+    precise float qc_t189 = qc_t188 / qc_t137;
+    precise bool qc_t190 = qc_t189 > 0.0;
+    precise bool qc_t191 = qc_t129 && qc_t190;
+    precise float qc_t192 = qc_v.z * qc_t189;
+    precise float qc_t193 = qc_t192 + qc_o.z;
+    precise float qc_t194 = qc_t193 * qc_q[2][1];
+    precise float qc_t195 = qc_v.y * qc_t189;
+    precise float qc_t196 = qc_t195 + qc_o.y;
+    precise float qc_t197 = qc_q[1][1] * qc_t196;
+    precise float qc_t198 = qc_v.x * qc_t189;
+    precise float qc_t199 = qc_o.x + qc_t198;
+    precise float qc_t200 = qc_t199 * qc_q[0][1];
+    precise float qc_t201 = qc_t197 + qc_t200;
+    precise float qc_t202 = qc_t194 + qc_t201;
+    precise float qc_t203 = qc_t155 + qc_t202;
+    precise float qc_t204 = qc_t203 * qc_t196;
+    precise float qc_t205 = qc_t193 * qc_q[2][0];
+    precise float qc_t206 = qc_q[0][0] * qc_t199;
+    precise float qc_t207 = qc_t196 * qc_q[1][0];
+    precise float qc_t208 = qc_t206 + qc_t207;
+    precise float qc_t209 = qc_t205 + qc_t208;
+    precise float qc_t210 = qc_t209 + qc_t168;
+    precise float qc_t211 = qc_t199 * qc_t210;
+    precise float qc_t212 = qc_t204 + qc_t211;
+    precise float qc_t213 = qc_t199 * qc_q[0][2];
+    precise float qc_t214 = qc_q[1][2] * qc_t196;
     precise float qc_t215 = qc_t213 + qc_t214;
-    precise float qc_t216 = qc_t172 + qc_t215;
-    precise float qc_t217 = qc_t216 * qc_t191;
-    precise float qc_t218 = qc_t210 + qc_t217;
-    precise float qc_t219 = qc_q[1][3] * qc_t194;
-    precise float qc_t220 = qc_t197 * qc_q[0][3];
-    precise float qc_t221 = qc_t219 + qc_t220;
-    precise float qc_t222 = qc_t191 * qc_q[2][3];
+    precise float qc_t216 = qc_t193 * qc_q[2][2];
+    precise float qc_t217 = qc_t215 + qc_t216;
+    precise float qc_t218 = qc_t172 + qc_t217;
+    precise float qc_t219 = qc_t218 * qc_t193;
+    precise float qc_t220 = qc_t212 + qc_t219;
+    precise float qc_t221 = qc_q[1][3] * qc_t196;
+    precise float qc_t222 = qc_t199 * qc_q[0][3];
     precise float qc_t223 = qc_t221 + qc_t222;
-    precise float qc_t224 = qc_t223 + qc_t152;
-    precise float qc_t225 = qc_t224 * 1.0;
-    precise float qc_t226 = qc_t218 + qc_t225;
-    precise bool qc_t227 = qc_t226 <= 0.0;
-    precise bool qc_t228 = qc_t189 && qc_t227;
-    precise bool qc_t229 = qc_t184 || qc_t228;
-    precise bool qc_t230 = !qc_t184;
-    precise bool qc_t231 = !qc_t123;
-    precise bool qc_t232 = !qc_t94;
-    precise bool qc_t233 = qc_t100 < qc_t72;
-    precise bool qc_t234 = qc_t232 || qc_t233;
-    precise bool qc_t235 = qc_t122 && qc_t234;
-    precise float qc_t236 = qc_t235 ? qc_t100 : qc_t72;
-    precise bool qc_t237 = qc_t138 < qc_t236;
-    precise bool qc_t238 = qc_t231 || qc_t237;
-    precise bool qc_t239 = qc_t183 && qc_t238;
-    precise float qc_t240 = qc_t239 ? qc_t138 : qc_t236;
-    precise bool qc_t241 = qc_t187 < qc_t240;
-    precise bool qc_t242 = qc_t230 || qc_t241;
-    precise bool qc_t243 = qc_t228 && qc_t242;
-    precise float qc_t244 = qc_t243 ? qc_t187 : qc_t240;
-    precise float qc_t245 = qc_v.z * qc_vz_row.z;
-    precise float qc_t246 = qc_v.y * qc_vz_row.y;
-    precise float qc_t247 = qc_v.x * qc_vz_row.x;
-    precise float qc_t248 = qc_t246 + qc_t247;
-    precise float qc_t249 = qc_t245 + qc_t248;
-    precise float qc_t250 = qc_t244 * qc_t249;
-    precise float qc_t251 = qc_t250 * qc_pz.x;
-    precise float qc_t252 = qc_t251 + qc_pz.y;
-    precise float qc_t253 = qc_pz.z * qc_t250;
-    precise float qc_t254 = qc_t253 + qc_pz.w;
-    precise float qc_t255 = qc_t252 / qc_t254;
-    precise float qc_t256 = 0.5 * qc_t255;
-    precise float qc_t257 = 0.5 + qc_t256;
-    precise bool qc_t258 = qc_t257 >= 0.0;
-    precise bool qc_t259 = qc_t229 && qc_t258;
-    precise bool qc_t260 = qc_t257 <= 1.0;
-    precise bool qc_t261 = qc_t259 && qc_t260;
-    qc_hit = qc_t261;
-    qc_depth = qc_t257;
-    precise float qc_t262 = (-1.0) * qc_axis.x;
-    precise float qc_t263 = 1.0 * qc_axis.x;
-    precise float qc_t264 = qc_a.x * qc_t100;
-    precise float qc_t265 = qc_t264 + qc_g.x;
-    precise float qc_t266 = qc_t72 * qc_a.x;
-    precise float qc_t267 = qc_t266 + qc_g.x;
-    precise float qc_t268 = qc_t235 ? qc_t265 : qc_t267;
-    precise float qc_t269 = qc_t239 ? qc_t263 : qc_t268;
-    precise float qc_t270 = qc_t243 ? qc_t262 : qc_t269;
-    qc_normal.x = qc_t270;
-    precise float qc_t271 = (-1.0) * qc_axis.y;
-    precise float qc_t272 = 1.0 * qc_axis.y;
-    precise float qc_t273 = qc_a.y * qc_t100;
-    precise float qc_t274 = qc_g.y + qc_t273;
-    precise float qc_t275 = qc_t72 * qc_a.y;
-    precise float qc_t276 = qc_g.y + qc_t275;
-    precise float qc_t277 = qc_t235 ? qc_t274 : qc_t276;
-    precise float qc_t278 = qc_t239 ? qc_t272 : qc_t277;
-    precise float qc_t279 = qc_t243 ? qc_t271 : qc_t278;
-    qc_normal.y = qc_t279;
-    precise float qc_t280 = (-1.0) * qc_axis.z;
-    precise float qc_t281 = 1.0 * qc_axis.z;
-    precise float qc_t282 = qc_a.z * qc_t100;
-    precise float qc_t283 = qc_g.z + qc_t282;
-    precise float qc_t284 = qc_a.z * qc_t72;
-    precise float qc_t285 = qc_g.z + qc_t284;
-    precise float qc_t286 = qc_t235 ? qc_t283 : qc_t285;
-    precise float qc_t287 = qc_t239 ? qc_t281 : qc_t286;
-    precise float qc_t288 = qc_t243 ? qc_t280 : qc_t287;
-    qc_normal.z = qc_t288;
+    precise float qc_t224 = qc_t193 * qc_q[2][3];
+    precise float qc_t225 = qc_t223 + qc_t224;
+    precise float qc_t226 = qc_t225 + qc_t152;
+    precise float qc_t227 = qc_t226 * 1.0;
+    precise float qc_t228 = qc_t220 + qc_t227;
+    precise bool qc_t229 = qc_t228 <= 0.0;
+    precise bool qc_t230 = qc_t191 && qc_t229;
+    precise bool qc_t231 = qc_caps.y > 0.0;
+    precise bool qc_t232 = qc_t230 && qc_t231;
+    precise bool qc_t233 = qc_t186 || qc_t232;
+    precise float qc_t234 = qc_v.z * qc_vz_row.z;
+    precise float qc_t235 = qc_v.y * qc_vz_row.y;
+    precise float qc_t236 = qc_v.x * qc_vz_row.x;
+    precise float qc_t237 = qc_t235 + qc_t236;
+    precise float qc_t238 = qc_t234 + qc_t237;
+    precise bool qc_t239 = !qc_t186;
+    precise bool qc_t240 = !qc_t123;
+    precise bool qc_t241 = !qc_t94;
+    precise bool qc_t242 = qc_t100 < qc_t72;
+    precise bool qc_t243 = qc_t241 || qc_t242;
+    precise bool qc_t244 = qc_t122 && qc_t243;
+    precise float qc_t245 = qc_t244 ? qc_t100 : qc_t72;
+    precise bool qc_t246 = qc_t138 < qc_t245;
+    precise bool qc_t247 = qc_t240 || qc_t246;
+    precise bool qc_t248 = qc_t185 && qc_t247;
+    precise float qc_t249 = qc_t248 ? qc_t138 : qc_t245;
+    precise bool qc_t250 = qc_t189 < qc_t249;
+    precise bool qc_t251 = qc_t239 || qc_t250;
+    precise bool qc_t252 = qc_t232 && qc_t251;
+    precise float qc_t253 = qc_t252 ? qc_t189 : qc_t249;
+    precise float qc_t254 = qc_t238 * qc_t253;
+    precise float qc_t255 = qc_t254 * qc_pz.x;
+    precise float qc_t256 = qc_pz.y + qc_t255;
+    precise float qc_t257 = qc_pz.z * qc_t254;
+    precise float qc_t258 = qc_pz.w + qc_t257;
+    precise float qc_t259 = qc_t256 / qc_t258;
+    precise float qc_t260 = 0.5 * qc_t259;
+    precise float qc_t261 = 0.5 + qc_t260;
+    precise bool qc_t262 = qc_t261 >= 0.0;
+    precise bool qc_t263 = qc_t233 && qc_t262;
+    precise bool qc_t264 = qc_t261 <= 1.0;
+    precise bool qc_t265 = qc_t263 && qc_t264;
+    qc_hit = qc_t265;
+    qc_depth = qc_t261;
+    precise float qc_t266 = (-1.0) * qc_axis.x;
+    precise float qc_t267 = 1.0 * qc_axis.x;
+    precise float qc_t268 = qc_a.x * qc_t100;
+    precise float qc_t269 = qc_t268 + qc_g.x;
+    precise float qc_t270 = qc_t72 * qc_a.x;
+    precise float qc_t271 = qc_t270 + qc_g.x;
+    precise float qc_t272 = qc_t244 ? qc_t269 : qc_t271;
+    precise float qc_t273 = qc_t248 ? qc_t267 : qc_t272;
+    precise float qc_t274 = qc_t252 ? qc_t266 : qc_t273;
+    qc_normal.x = qc_t274;
+    precise float qc_t275 = (-1.0) * qc_axis.y;
+    precise float qc_t276 = 1.0 * qc_axis.y;
+    precise float qc_t277 = qc_a.y * qc_t100;
+    precise float qc_t278 = qc_g.y + qc_t277;
+    precise float qc_t279 = qc_t72 * qc_a.y;
+    precise float qc_t280 = qc_g.y + qc_t279;
+    precise float qc_t281 = qc_t244 ? qc_t278 : qc_t280;
+    precise float qc_t282 = qc_t248 ? qc_t276 : qc_t281;
+    precise float qc_t283 = qc_t252 ? qc_t275 : qc_t282;
+    qc_normal.y = qc_t283;
+    precise float qc_t284 = (-1.0) * qc_axis.z;
+    precise float qc_t285 = 1.0 * qc_axis.z;
+    precise float qc_t286 = qc_a.z * qc_t100;
+    precise float qc_t287 = qc_g.z + qc_t286;
+    precise float qc_t288 = qc_a.z * qc_t72;
+    precise float qc_t289 = qc_g.z + qc_t288;
+    precise float qc_t290 = qc_t244 ? qc_t287 : qc_t289;
+    precise float qc_t291 = qc_t248 ? qc_t285 : qc_t290;
+    precise float qc_t292 = qc_t252 ? qc_t284 : qc_t291;
+    qc_normal.z = qc_t292;
 }
 
 void main()
@@ -340,11 +352,12 @@ void main()
     bool hit;
     float depth;
     vec3 n;
-    qc_fragment_slab_nocull(qc_record_quadric(p), p.center.xyz, p.q2.z, p.axis.xyz, p.q2.w,
+    qc_fragment_slab_nocull(qc_record_quadric(p), qc_record_center(p), qc_record_radius(p), qc_record_axis(p), qc_record_half_length(p),
+        qc_record_caps(p),
         qc_o, qc_v, qc_g, qc_a, qc_vz_row, qc_pz, hit, depth, n);
     if (!hit) discard;
     gl_FragDepth = depth;
     qc_gnormal = vec4(n, depth);
-    qc_gview = vec4(qc_v, 1.0);
-    qc_gcolor = vec4(p.color.rgb, 1.0);
+    qc_gview = vec4(qc_v, qc_record_material(p).y);
+    qc_gcolor = vec4(qc_record_color(p), qc_record_material(p).x);
 }

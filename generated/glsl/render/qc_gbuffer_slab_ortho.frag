@@ -6,23 +6,31 @@
 // Numerics: float; every operation is its own `precise` statement (no contraction, no
 // reassociation); literals are exact; no built-in whose rounding differs from the CPU.
 
-struct qc_Primitive {
-    vec4 q0;      // A00 A01 A02 A11
-    vec4 q1;      // A12 A22 b0 b1
-    vec4 q2;      // b2 c radius half_length
-    vec4 center;  // xyz
-    vec4 axis;    // xyz (slab variants)
-    vec4 color;   // rgb
+struct qc_Primitive {  // quadcast::render::record_layout
+    vec4 s0;  // A00 A01 A02 A11
+    vec4 s1;  // A12 A22 b0 b1
+    vec4 s2;  // b2 c radius half_length
+    vec4 s3;  // center.x center.y center.z specular
+    vec4 s4;  // axis.x axis.y axis.z shininess
+    vec4 s5;  // red green blue 0
+    vec4 s6;  // cap+ cap- 0 0
 };
 layout(std430, binding = 0) readonly buffer qc_Primitives { qc_Primitive qc_prims[]; };
 
 mat4 qc_record_quadric(qc_Primitive p)
 {
-    return mat4(p.q0.x, p.q0.y, p.q0.z, p.q1.z,
-                p.q0.y, p.q0.w, p.q1.x, p.q1.w,
-                p.q0.z, p.q1.x, p.q1.y, p.q2.x,
-                p.q1.z, p.q1.w, p.q2.x, p.q2.y);
+    return mat4(p.s0.x, p.s0.y, p.s0.z, p.s1.z,
+                p.s0.y, p.s0.w, p.s1.x, p.s1.w,
+                p.s0.z, p.s1.x, p.s1.y, p.s2.x,
+                p.s1.z, p.s1.w, p.s2.x, p.s2.y);
 }
+vec3 qc_record_center(qc_Primitive p) { return vec3(p.s3.x, p.s3.y, p.s3.z); }
+float qc_record_radius(qc_Primitive p) { return p.s2.z; }
+vec3 qc_record_axis(qc_Primitive p) { return vec3(p.s4.x, p.s4.y, p.s4.z); }
+float qc_record_half_length(qc_Primitive p) { return p.s2.w; }
+vec2 qc_record_caps(qc_Primitive p) { return vec2(p.s6.x, p.s6.y); }
+vec3 qc_record_color(qc_Primitive p) { return vec3(p.s5.x, p.s5.y, p.s5.z); }
+vec2 qc_record_material(qc_Primitive p) { return vec2(p.s3.w, p.s4.w); }
 
 uniform vec3 qc_vz_row;       // third row of the world->view rotation
 uniform vec4 qc_pz;           // P22, P32, P23, P33 of the projection
@@ -33,10 +41,10 @@ flat in vec3 qc_v;
 in vec3 qc_g;
 flat in vec3 qc_a;
 layout(location = 0) out vec4 qc_gnormal;  // normal (unnormalised), window depth
-layout(location = 1) out vec4 qc_gview;    // ray direction, 1 (covered)
-layout(location = 2) out vec4 qc_gcolor;   // colour, 1
+layout(location = 1) out vec4 qc_gview;    // ray direction, shininess (> 0: covered)
+layout(location = 2) out vec4 qc_gcolor;   // colour, specular
 
-void qc_fragment_slab(in mat4 qc_q, in vec3 qc_center, in float qc_radius, in vec3 qc_axis, in float qc_half_length, in vec3 qc_o, in vec3 qc_v, in vec3 qc_g, in vec3 qc_a, in vec3 qc_vz_row, in vec4 qc_pz, out bool qc_hit, out float qc_depth, out vec3 qc_normal)
+void qc_fragment_slab(in mat4 qc_q, in vec3 qc_center, in float qc_radius, in vec3 qc_axis, in float qc_half_length, in vec2 qc_caps, in vec3 qc_o, in vec3 qc_v, in vec3 qc_g, in vec3 qc_a, in vec3 qc_vz_row, in vec4 qc_pz, out bool qc_hit, out float qc_depth, out vec3 qc_normal)
 {
     precise float qc_t0 = qc_v.x * qc_a.x;
     precise float qc_t1 = qc_v.y * qc_a.y;
@@ -189,108 +197,112 @@ void qc_fragment_slab(in mat4 qc_q, in vec3 qc_center, in float qc_radius, in ve
     precise float qc_t148 = qc_t121 + qc_t147;
     precise bool qc_t149 = qc_t148 <= 0.0;
     precise bool qc_t150 = qc_t107 && qc_t149;
-    precise float qc_t151 = 1.0 * qc_t95;
-    precise bool qc_t152 = qc_t151 < 0.0;
-    precise bool qc_t153 = qc_t150 && qc_t152;
-    precise bool qc_t154 = qc_t90 || qc_t153;
-    precise float qc_t155 = (-1.0) * qc_half_length;
-    precise float qc_t156 = qc_t155 - qc_t102;
-    precise float qc_t157 = qc_t156 / qc_t104;
-    precise bool qc_t158 = qc_t157 > 0.0;
-    precise bool qc_t159 = qc_t96 && qc_t158;
-    precise float qc_t160 = qc_v.z * qc_t157;
-    precise float qc_t161 = qc_t160 + qc_o.z;
-    precise float qc_t162 = qc_t161 * qc_q[2][1];
-    precise float qc_t163 = qc_v.y * qc_t157;
-    precise float qc_t164 = qc_t163 + qc_o.y;
-    precise float qc_t165 = qc_q[1][1] * qc_t164;
-    precise float qc_t166 = qc_v.x * qc_t157;
-    precise float qc_t167 = qc_o.x + qc_t166;
-    precise float qc_t168 = qc_t167 * qc_q[0][1];
-    precise float qc_t169 = qc_t165 + qc_t168;
-    precise float qc_t170 = qc_t162 + qc_t169;
-    precise float qc_t171 = qc_t122 + qc_t170;
-    precise float qc_t172 = qc_t171 * qc_t164;
-    precise float qc_t173 = qc_t161 * qc_q[2][0];
-    precise float qc_t174 = qc_q[0][0] * qc_t167;
-    precise float qc_t175 = qc_t164 * qc_q[1][0];
-    precise float qc_t176 = qc_t174 + qc_t175;
-    precise float qc_t177 = qc_t173 + qc_t176;
-    precise float qc_t178 = qc_t177 + qc_t135;
-    precise float qc_t179 = qc_t167 * qc_t178;
-    precise float qc_t180 = qc_t172 + qc_t179;
-    precise float qc_t181 = qc_t167 * qc_q[0][2];
-    precise float qc_t182 = qc_q[1][2] * qc_t164;
-    precise float qc_t183 = qc_t181 + qc_t182;
-    precise float qc_t184 = qc_t161 * qc_q[2][2];
+    precise bool qc_t151 = qc_caps.x > 0.0;
+    precise bool qc_t152 = qc_t150 && qc_t151;
+    precise float qc_t153 = 1.0 * qc_t95;
+    precise bool qc_t154 = qc_t153 < 0.0;
+    precise bool qc_t155 = qc_t152 && qc_t154;
+    precise bool qc_t156 = qc_t90 || qc_t155;
+    precise float qc_t157 = (-1.0) * qc_half_length;
+    precise float qc_t158 = qc_t157 - qc_t102;
+    precise float qc_t159 = qc_t158 / qc_t104;
+    precise bool qc_t160 = qc_t159 > 0.0;
+    precise bool qc_t161 = qc_t96 && qc_t160;
+    precise float qc_t162 = qc_v.z * qc_t159;
+    precise float qc_t163 = qc_t162 + qc_o.z;
+    precise float qc_t164 = qc_t163 * qc_q[2][1];
+    precise float qc_t165 = qc_v.y * qc_t159;
+    precise float qc_t166 = qc_t165 + qc_o.y;
+    precise float qc_t167 = qc_q[1][1] * qc_t166;
+    precise float qc_t168 = qc_v.x * qc_t159;
+    precise float qc_t169 = qc_o.x + qc_t168;
+    precise float qc_t170 = qc_t169 * qc_q[0][1];
+    precise float qc_t171 = qc_t167 + qc_t170;
+    precise float qc_t172 = qc_t164 + qc_t171;
+    precise float qc_t173 = qc_t122 + qc_t172;
+    precise float qc_t174 = qc_t173 * qc_t166;
+    precise float qc_t175 = qc_t163 * qc_q[2][0];
+    precise float qc_t176 = qc_q[0][0] * qc_t169;
+    precise float qc_t177 = qc_t166 * qc_q[1][0];
+    precise float qc_t178 = qc_t176 + qc_t177;
+    precise float qc_t179 = qc_t175 + qc_t178;
+    precise float qc_t180 = qc_t179 + qc_t135;
+    precise float qc_t181 = qc_t169 * qc_t180;
+    precise float qc_t182 = qc_t174 + qc_t181;
+    precise float qc_t183 = qc_t169 * qc_q[0][2];
+    precise float qc_t184 = qc_q[1][2] * qc_t166;
     precise float qc_t185 = qc_t183 + qc_t184;
-    precise float qc_t186 = qc_t139 + qc_t185;
-    precise float qc_t187 = qc_t186 * qc_t161;
-    precise float qc_t188 = qc_t180 + qc_t187;
-    precise float qc_t189 = qc_q[1][3] * qc_t164;
-    precise float qc_t190 = qc_t167 * qc_q[0][3];
-    precise float qc_t191 = qc_t189 + qc_t190;
-    precise float qc_t192 = qc_t161 * qc_q[2][3];
+    precise float qc_t186 = qc_t163 * qc_q[2][2];
+    precise float qc_t187 = qc_t185 + qc_t186;
+    precise float qc_t188 = qc_t139 + qc_t187;
+    precise float qc_t189 = qc_t188 * qc_t163;
+    precise float qc_t190 = qc_t182 + qc_t189;
+    precise float qc_t191 = qc_q[1][3] * qc_t166;
+    precise float qc_t192 = qc_t169 * qc_q[0][3];
     precise float qc_t193 = qc_t191 + qc_t192;
-    precise float qc_t194 = qc_t193 + qc_t119;
-    precise float qc_t195 = qc_t194 * 1.0;
-    precise float qc_t196 = qc_t188 + qc_t195;
-    precise bool qc_t197 = qc_t196 <= 0.0;
-    precise bool qc_t198 = qc_t159 && qc_t197;
-    precise float qc_t199 = (-1.0) * qc_t95;
-    precise bool qc_t200 = qc_t199 < 0.0;
-    precise bool qc_t201 = qc_t198 && qc_t200;
-    precise bool qc_t202 = qc_t154 || qc_t201;
-    precise float qc_t203 = qc_v.z * qc_vz_row.z;
-    precise float qc_t204 = qc_v.y * qc_vz_row.y;
-    precise float qc_t205 = qc_v.x * qc_vz_row.x;
-    precise float qc_t206 = qc_t204 + qc_t205;
-    precise float qc_t207 = qc_t203 + qc_t206;
-    precise bool qc_t208 = !qc_t154;
-    precise bool qc_t209 = !qc_t90;
-    precise bool qc_t210 = qc_t105 < qc_t68;
-    precise bool qc_t211 = qc_t209 || qc_t210;
-    precise bool qc_t212 = qc_t153 && qc_t211;
-    precise float qc_t213 = qc_t212 ? qc_t105 : qc_t68;
-    precise bool qc_t214 = qc_t157 < qc_t213;
-    precise bool qc_t215 = qc_t208 || qc_t214;
-    precise bool qc_t216 = qc_t201 && qc_t215;
-    precise float qc_t217 = qc_t216 ? qc_t157 : qc_t213;
-    precise float qc_t218 = qc_t207 * qc_t217;
-    precise float qc_t219 = qc_t218 * qc_pz.x;
-    precise float qc_t220 = qc_t219 + qc_pz.y;
-    precise float qc_t221 = qc_pz.z * qc_t218;
-    precise float qc_t222 = qc_pz.w + qc_t221;
-    precise float qc_t223 = qc_t220 / qc_t222;
-    precise float qc_t224 = qc_t223 * 0.5;
-    precise float qc_t225 = 0.5 + qc_t224;
-    precise bool qc_t226 = qc_t225 >= 0.0;
-    precise bool qc_t227 = qc_t202 && qc_t226;
-    precise bool qc_t228 = qc_t225 <= 1.0;
-    precise bool qc_t229 = qc_t227 && qc_t228;
-    qc_hit = qc_t229;
-    qc_depth = qc_t225;
-    precise float qc_t230 = (-1.0) * qc_axis.x;
-    precise float qc_t231 = 1.0 * qc_axis.x;
-    precise float qc_t232 = qc_t68 * qc_a.x;
-    precise float qc_t233 = qc_t232 + qc_g.x;
-    precise float qc_t234 = qc_t212 ? qc_t231 : qc_t233;
-    precise float qc_t235 = qc_t216 ? qc_t230 : qc_t234;
-    qc_normal.x = qc_t235;
-    precise float qc_t236 = (-1.0) * qc_axis.y;
-    precise float qc_t237 = 1.0 * qc_axis.y;
-    precise float qc_t238 = qc_t68 * qc_a.y;
-    precise float qc_t239 = qc_g.y + qc_t238;
-    precise float qc_t240 = qc_t212 ? qc_t237 : qc_t239;
-    precise float qc_t241 = qc_t216 ? qc_t236 : qc_t240;
-    qc_normal.y = qc_t241;
-    precise float qc_t242 = (-1.0) * qc_axis.z;
-    precise float qc_t243 = 1.0 * qc_axis.z;
-    precise float qc_t244 = qc_a.z * qc_t68;
-    precise float qc_t245 = qc_g.z + qc_t244;
-    precise float qc_t246 = qc_t212 ? qc_t243 : qc_t245;
-    precise float qc_t247 = qc_t216 ? qc_t242 : qc_t246;
-    qc_normal.z = qc_t247;
+    precise float qc_t194 = qc_t163 * qc_q[2][3];
+    precise float qc_t195 = qc_t193 + qc_t194;
+    precise float qc_t196 = qc_t195 + qc_t119;
+    precise float qc_t197 = qc_t196 * 1.0;
+    precise float qc_t198 = qc_t190 + qc_t197;
+    precise bool qc_t199 = qc_t198 <= 0.0;
+    precise bool qc_t200 = qc_t161 && qc_t199;
+    precise bool qc_t201 = qc_caps.y > 0.0;
+    precise bool qc_t202 = qc_t200 && qc_t201;
+    precise float qc_t203 = (-1.0) * qc_t95;
+    precise bool qc_t204 = qc_t203 < 0.0;
+    precise bool qc_t205 = qc_t202 && qc_t204;
+    precise bool qc_t206 = qc_t156 || qc_t205;
+    precise bool qc_t207 = !qc_t156;
+    precise bool qc_t208 = !qc_t90;
+    precise bool qc_t209 = qc_t105 < qc_t68;
+    precise bool qc_t210 = qc_t208 || qc_t209;
+    precise bool qc_t211 = qc_t155 && qc_t210;
+    precise float qc_t212 = qc_t211 ? qc_t105 : qc_t68;
+    precise bool qc_t213 = qc_t159 < qc_t212;
+    precise bool qc_t214 = qc_t207 || qc_t213;
+    precise bool qc_t215 = qc_t205 && qc_t214;
+    precise float qc_t216 = qc_t215 ? qc_t159 : qc_t212;
+    precise float qc_t217 = qc_v.z * qc_vz_row.z;
+    precise float qc_t218 = qc_v.y * qc_vz_row.y;
+    precise float qc_t219 = qc_v.x * qc_vz_row.x;
+    precise float qc_t220 = qc_t218 + qc_t219;
+    precise float qc_t221 = qc_t217 + qc_t220;
+    precise float qc_t222 = qc_t216 * qc_t221;
+    precise float qc_t223 = qc_t222 * qc_pz.x;
+    precise float qc_t224 = qc_pz.y + qc_t223;
+    precise float qc_t225 = qc_pz.z * qc_t222;
+    precise float qc_t226 = qc_pz.w + qc_t225;
+    precise float qc_t227 = qc_t224 / qc_t226;
+    precise float qc_t228 = 0.5 * qc_t227;
+    precise float qc_t229 = 0.5 + qc_t228;
+    precise bool qc_t230 = qc_t229 >= 0.0;
+    precise bool qc_t231 = qc_t206 && qc_t230;
+    precise bool qc_t232 = qc_t229 <= 1.0;
+    precise bool qc_t233 = qc_t231 && qc_t232;
+    qc_hit = qc_t233;
+    qc_depth = qc_t229;
+    precise float qc_t234 = (-1.0) * qc_axis.x;
+    precise float qc_t235 = 1.0 * qc_axis.x;
+    precise float qc_t236 = qc_t68 * qc_a.x;
+    precise float qc_t237 = qc_t236 + qc_g.x;
+    precise float qc_t238 = qc_t211 ? qc_t235 : qc_t237;
+    precise float qc_t239 = qc_t215 ? qc_t234 : qc_t238;
+    qc_normal.x = qc_t239;
+    precise float qc_t240 = (-1.0) * qc_axis.y;
+    precise float qc_t241 = 1.0 * qc_axis.y;
+    precise float qc_t242 = qc_t68 * qc_a.y;
+    precise float qc_t243 = qc_g.y + qc_t242;
+    precise float qc_t244 = qc_t211 ? qc_t241 : qc_t243;
+    precise float qc_t245 = qc_t215 ? qc_t240 : qc_t244;
+    qc_normal.y = qc_t245;
+    precise float qc_t246 = (-1.0) * qc_axis.z;
+    precise float qc_t247 = 1.0 * qc_axis.z;
+    precise float qc_t248 = qc_a.z * qc_t68;
+    precise float qc_t249 = qc_g.z + qc_t248;
+    precise float qc_t250 = qc_t211 ? qc_t247 : qc_t249;
+    precise float qc_t251 = qc_t215 ? qc_t246 : qc_t250;
+    qc_normal.z = qc_t251;
 }
 
 void main()
@@ -299,11 +311,12 @@ void main()
     bool hit;
     float depth;
     vec3 n;
-    qc_fragment_slab(qc_record_quadric(p), p.center.xyz, p.q2.z, p.axis.xyz, p.q2.w,
+    qc_fragment_slab(qc_record_quadric(p), qc_record_center(p), qc_record_radius(p), qc_record_axis(p), qc_record_half_length(p),
+        qc_record_caps(p),
         qc_o, qc_v, qc_g, qc_a, qc_vz_row, qc_pz, hit, depth, n);
     if (!hit) discard;
     gl_FragDepth = depth;
     qc_gnormal = vec4(n, depth);
-    qc_gview = vec4(qc_v, 1.0);
-    qc_gcolor = vec4(p.color.rgb, 1.0);
+    qc_gview = vec4(qc_v, qc_record_material(p).y);
+    qc_gcolor = vec4(qc_record_color(p), qc_record_material(p).x);
 }

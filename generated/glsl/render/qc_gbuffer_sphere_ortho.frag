@@ -11,11 +11,12 @@ uniform vec4 qc_pz;           // P22, P32, P23, P33 of the projection
 
 flat in float qc_radius;
 flat in vec3 qc_prim_color;
+flat in vec2 qc_prim_material;
 in vec3 qc_o;
 flat in vec3 qc_v;
 layout(location = 0) out vec4 qc_gnormal;  // normal (unnormalised), window depth
-layout(location = 1) out vec4 qc_gview;    // ray direction, 1 (covered)
-layout(location = 2) out vec4 qc_gcolor;   // colour, 1
+layout(location = 1) out vec4 qc_gview;    // ray direction, shininess (> 0: covered)
+layout(location = 2) out vec4 qc_gcolor;   // colour, specular
 
 void qc_fragment_sphere(in float qc_radius, in vec3 qc_o, in vec3 qc_v, in vec3 qc_vz_row, in vec4 qc_pz, out bool qc_hit, out float qc_depth, out vec3 qc_normal)
 {
@@ -124,6 +125,6 @@ void main()
     if (!hit) discard;
     gl_FragDepth = depth;
     qc_gnormal = vec4(n, depth);
-    qc_gview = vec4(qc_v, 1.0);
-    qc_gcolor = vec4(qc_prim_color, 1.0);
+    qc_gview = vec4(qc_v, qc_prim_material.y);
+    qc_gcolor = vec4(qc_prim_color, qc_prim_material.x);
 }

@@ -11,6 +11,7 @@ uniform float qc_rho;         // the isovalue
 uniform vec3 qc_grad_scale;   // cube-local gradient -> world gradient, per axis
 uniform float qc_pixel;       // a pixel's angle (perspective) or world width (orthographic): 2 / (P11 height)
 uniform vec3 qc_color;
+uniform vec4 qc_material;     // ambient, diffuse, specular, shininess
 // R_t (quadcast::spline::rotation), column-major.
 const mat3 qc_rotations[24] = mat3[](
     mat3(1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0),
@@ -48,8 +49,8 @@ in vec3 qc_v;
 in vec3 qc_dir;
 in float qc_vz;
 layout(location = 0) out vec4 qc_gnormal;  // normal (unnormalised), window depth
-layout(location = 1) out vec4 qc_gview;    // ray direction, 1 (covered)
-layout(location = 2) out vec4 qc_gcolor;   // colour, 1
+layout(location = 1) out vec4 qc_gview;    // ray direction, shininess (> 0: covered)
+layout(location = 2) out vec4 qc_gcolor;   // colour, specular
 
 void qc_spline_fragment_q2(in vec4 qc_c0, in vec4 qc_c1, in vec2 qc_c2, in mat3 qc_rot, in vec3 qc_o, in float qc_w, in vec3 qc_v, in float qc_vz, in vec4 qc_pz, in float qc_rho, in vec3 qc_grad_scale, in float qc_pixel, out bool qc_hit, out float qc_depth, out vec3 qc_normal)
 {
@@ -475,6 +476,6 @@ void main()
     if (!hit) discard;
     gl_FragDepth = depth;
     qc_gnormal = vec4(n, depth);
-    qc_gview = vec4(qc_dir, 1.0);
-    qc_gcolor = vec4(qc_color, 1.0);
+    qc_gview = vec4(qc_dir, qc_material.w);
+    qc_gcolor = vec4(qc_color, qc_material.z);
 }

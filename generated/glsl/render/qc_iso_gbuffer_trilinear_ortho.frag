@@ -11,6 +11,7 @@ uniform float qc_rho;         // the isovalue
 uniform vec3 qc_grad_scale;   // cube-local gradient -> world gradient, per axis
 uniform float qc_pixel;       // a pixel's angle (perspective) or world width (orthographic): 2 / (P11 height)
 uniform vec3 qc_color;
+uniform vec4 qc_material;     // ambient, diffuse, specular, shininess
 
 flat in vec4 qc_corners0;
 flat in vec4 qc_corners1;
@@ -20,8 +21,8 @@ flat in vec3 qc_v;
 flat in vec3 qc_dir;
 flat in float qc_vz;
 layout(location = 0) out vec4 qc_gnormal;  // normal (unnormalised), window depth
-layout(location = 1) out vec4 qc_gview;    // ray direction, 1 (covered)
-layout(location = 2) out vec4 qc_gcolor;   // colour, 1
+layout(location = 1) out vec4 qc_gview;    // ray direction, shininess (> 0: covered)
+layout(location = 2) out vec4 qc_gcolor;   // colour, specular
 
 void qc_trilinear_fragment(in vec4 qc_corners0, in vec4 qc_corners1, in vec3 qc_o, in float qc_w, in vec3 qc_v, in float qc_vz, in vec4 qc_pz, in float qc_rho, in vec3 qc_grad_scale, in float qc_pixel, out bool qc_hit, out float qc_depth, out vec3 qc_normal)
 {
@@ -956,6 +957,6 @@ void main()
     if (!hit) discard;
     gl_FragDepth = depth;
     qc_gnormal = vec4(n, depth);
-    qc_gview = vec4(qc_dir, 1.0);
-    qc_gcolor = vec4(qc_color, 1.0);
+    qc_gview = vec4(qc_dir, qc_material.w);
+    qc_gcolor = vec4(qc_color, qc_material.z);
 }

@@ -6,23 +6,31 @@
 // Numerics: float; every operation is its own `precise` statement (no contraction, no
 // reassociation); literals are exact; no built-in whose rounding differs from the CPU.
 
-struct qc_Primitive {
-    vec4 q0;      // A00 A01 A02 A11
-    vec4 q1;      // A12 A22 b0 b1
-    vec4 q2;      // b2 c radius half_length
-    vec4 center;  // xyz
-    vec4 axis;    // xyz (slab variants)
-    vec4 color;   // rgb
+struct qc_Primitive {  // quadcast::render::record_layout
+    vec4 s0;  // A00 A01 A02 A11
+    vec4 s1;  // A12 A22 b0 b1
+    vec4 s2;  // b2 c radius half_length
+    vec4 s3;  // center.x center.y center.z specular
+    vec4 s4;  // axis.x axis.y axis.z shininess
+    vec4 s5;  // red green blue 0
+    vec4 s6;  // cap+ cap- 0 0
 };
 layout(std430, binding = 0) readonly buffer qc_Primitives { qc_Primitive qc_prims[]; };
 
 mat4 qc_record_quadric(qc_Primitive p)
 {
-    return mat4(p.q0.x, p.q0.y, p.q0.z, p.q1.z,
-                p.q0.y, p.q0.w, p.q1.x, p.q1.w,
-                p.q0.z, p.q1.x, p.q1.y, p.q2.x,
-                p.q1.z, p.q1.w, p.q2.x, p.q2.y);
+    return mat4(p.s0.x, p.s0.y, p.s0.z, p.s1.z,
+                p.s0.y, p.s0.w, p.s1.x, p.s1.w,
+                p.s0.z, p.s1.x, p.s1.y, p.s2.x,
+                p.s1.z, p.s1.w, p.s2.x, p.s2.y);
 }
+vec3 qc_record_center(qc_Primitive p) { return vec3(p.s3.x, p.s3.y, p.s3.z); }
+float qc_record_radius(qc_Primitive p) { return p.s2.z; }
+vec3 qc_record_axis(qc_Primitive p) { return vec3(p.s4.x, p.s4.y, p.s4.z); }
+float qc_record_half_length(qc_Primitive p) { return p.s2.w; }
+vec2 qc_record_caps(qc_Primitive p) { return vec2(p.s6.x, p.s6.y); }
+vec3 qc_record_color(qc_Primitive p) { return vec3(p.s5.x, p.s5.y, p.s5.z); }
+vec2 qc_record_material(qc_Primitive p) { return vec2(p.s3.w, p.s4.w); }
 
 // Clip planes of the `planes` variant, one set per primitive of the draw (index prim - qc_first).
 struct qc_Planes { vec4 p[4]; };
@@ -480,13 +488,13 @@ void main()
     bool hit;
     float depth;
     vec3 n;
-    qc_fragment_planes(qc_record_quadric(p), p.center.xyz, p.q2.z, p.axis.xyz, p.q2.w,
+    qc_fragment_planes(qc_record_quadric(p), qc_record_center(p), qc_record_radius(p), qc_record_axis(p), qc_record_half_length(p),
         qc_planes[qc_prim - qc_first].p[0], qc_planes[qc_prim - qc_first].p[1], qc_planes[qc_prim - qc_first].p[2], qc_planes[qc_prim - qc_first].p[3],
         qc_o, qc_v, qc_g, qc_a, qc_vz_row, qc_pz, hit, depth, n);
     if (!hit) discard;
     gl_FragDepth = depth;
     vec3 rgb;
-    qc_shade_blinn_phong(n, -qc_light_dir, -qc_v, p.color.rgb, qc_light_color, qc_material, rgb);
+    qc_shade_blinn_phong(n, -qc_light_dir, -qc_v, qc_record_color(p), qc_light_color, vec4(qc_material.xy, qc_record_material(p)), rgb);
     rgb = qc_reflect_environment(rgb, n, -qc_v);
     qc_color = vec4(rgb, 1.0);
 }

@@ -6,23 +6,31 @@
 // Numerics: float; every operation is its own `precise` statement (no contraction, no
 // reassociation); literals are exact; no built-in whose rounding differs from the CPU.
 
-struct qc_Primitive {
-    vec4 q0;      // A00 A01 A02 A11
-    vec4 q1;      // A12 A22 b0 b1
-    vec4 q2;      // b2 c radius half_length
-    vec4 center;  // xyz
-    vec4 axis;    // xyz (slab variants)
-    vec4 color;   // rgb
+struct qc_Primitive {  // quadcast::render::record_layout
+    vec4 s0;  // A00 A01 A02 A11
+    vec4 s1;  // A12 A22 b0 b1
+    vec4 s2;  // b2 c radius half_length
+    vec4 s3;  // center.x center.y center.z specular
+    vec4 s4;  // axis.x axis.y axis.z shininess
+    vec4 s5;  // red green blue 0
+    vec4 s6;  // cap+ cap- 0 0
 };
 layout(std430, binding = 0) readonly buffer qc_Primitives { qc_Primitive qc_prims[]; };
 
 mat4 qc_record_quadric(qc_Primitive p)
 {
-    return mat4(p.q0.x, p.q0.y, p.q0.z, p.q1.z,
-                p.q0.y, p.q0.w, p.q1.x, p.q1.w,
-                p.q0.z, p.q1.x, p.q1.y, p.q2.x,
-                p.q1.z, p.q1.w, p.q2.x, p.q2.y);
+    return mat4(p.s0.x, p.s0.y, p.s0.z, p.s1.z,
+                p.s0.y, p.s0.w, p.s1.x, p.s1.w,
+                p.s0.z, p.s1.x, p.s1.y, p.s2.x,
+                p.s1.z, p.s1.w, p.s2.x, p.s2.y);
 }
+vec3 qc_record_center(qc_Primitive p) { return vec3(p.s3.x, p.s3.y, p.s3.z); }
+float qc_record_radius(qc_Primitive p) { return p.s2.z; }
+vec3 qc_record_axis(qc_Primitive p) { return vec3(p.s4.x, p.s4.y, p.s4.z); }
+float qc_record_half_length(qc_Primitive p) { return p.s2.w; }
+vec2 qc_record_caps(qc_Primitive p) { return vec2(p.s6.x, p.s6.y); }
+vec3 qc_record_color(qc_Primitive p) { return vec3(p.s5.x, p.s5.y, p.s5.z); }
+vec2 qc_record_material(qc_Primitive p) { return vec2(p.s3.w, p.s4.w); }
 
 uniform mat4 qc_inv_view_proj;  // brute force: the pixel's ray from gl_FragCoord
 uniform vec3 qc_eye;
@@ -91,7 +99,7 @@ void qc_pixel_ray(in mat4 qc_inv_view_proj, in vec3 qc_eye, in vec2 qc_frag, in 
     qc_dir.z = qc_t40;
 }
 
-void qc_fragment_slab_nocull_brute(in mat4 qc_q, in vec3 qc_center, in float qc_radius, in vec3 qc_axis, in float qc_half_length, in vec3 qc_origin, in vec3 qc_dir, in vec3 qc_vz_row, in vec4 qc_pz, out bool qc_hit, out float qc_depth, out vec3 qc_normal)
+void qc_fragment_slab_nocull_brute(in mat4 qc_q, in vec3 qc_center, in float qc_radius, in vec3 qc_axis, in float qc_half_length, in vec2 qc_caps, in vec3 qc_origin, in vec3 qc_dir, in vec3 qc_vz_row, in vec4 qc_pz, out bool qc_hit, out float qc_depth, out vec3 qc_normal)
 {
     precise float qc_t0 = qc_dir.z * qc_q[2][2];
     precise float qc_t1 = qc_dir.x * qc_q[0][2];
@@ -313,116 +321,120 @@ void qc_fragment_slab_nocull_brute(in mat4 qc_q, in vec3 qc_center, in float qc_
     precise float qc_t217 = qc_t190 + qc_t216;
     precise bool qc_t218 = qc_t217 <= 0.0;
     precise bool qc_t219 = qc_t176 && qc_t218;
-    precise bool qc_t220 = qc_t159 || qc_t219;
-    precise float qc_t221 = (-1.0) * qc_half_length;
-    precise float qc_t222 = qc_t221 - qc_t171;
-    precise float qc_t223 = qc_t222 / qc_t173;
-    precise bool qc_t224 = qc_t223 > 0.0;
-    precise bool qc_t225 = qc_t165 && qc_t224;
-    precise float qc_t226 = qc_dir.x * qc_t223;
-    precise float qc_t227 = qc_t226 + qc_t23;
-    precise float qc_t228 = qc_t227 * qc_q[0][3];
-    precise float qc_t229 = qc_dir.y * qc_t223;
-    precise float qc_t230 = qc_t25 + qc_t229;
-    precise float qc_t231 = qc_q[1][3] * qc_t230;
-    precise float qc_t232 = qc_t228 + qc_t231;
-    precise float qc_t233 = qc_dir.z * qc_t223;
-    precise float qc_t234 = qc_t233 + qc_t21;
-    precise float qc_t235 = qc_q[2][3] * qc_t234;
-    precise float qc_t236 = qc_t232 + qc_t235;
-    precise float qc_t237 = qc_t236 + qc_t188;
-    precise float qc_t238 = 1.0 * qc_t237;
-    precise float qc_t239 = qc_t230 * qc_q[1][0];
-    precise float qc_t240 = qc_q[0][0] * qc_t227;
-    precise float qc_t241 = qc_t239 + qc_t240;
-    precise float qc_t242 = qc_t234 * qc_q[2][0];
+    precise bool qc_t220 = qc_caps.x > 0.0;
+    precise bool qc_t221 = qc_t219 && qc_t220;
+    precise bool qc_t222 = qc_t159 || qc_t221;
+    precise float qc_t223 = (-1.0) * qc_half_length;
+    precise float qc_t224 = qc_t223 - qc_t171;
+    precise float qc_t225 = qc_t224 / qc_t173;
+    precise bool qc_t226 = qc_t225 > 0.0;
+    precise bool qc_t227 = qc_t165 && qc_t226;
+    precise float qc_t228 = qc_dir.x * qc_t225;
+    precise float qc_t229 = qc_t228 + qc_t23;
+    precise float qc_t230 = qc_t229 * qc_q[0][3];
+    precise float qc_t231 = qc_dir.y * qc_t225;
+    precise float qc_t232 = qc_t25 + qc_t231;
+    precise float qc_t233 = qc_q[1][3] * qc_t232;
+    precise float qc_t234 = qc_t230 + qc_t233;
+    precise float qc_t235 = qc_dir.z * qc_t225;
+    precise float qc_t236 = qc_t235 + qc_t21;
+    precise float qc_t237 = qc_q[2][3] * qc_t236;
+    precise float qc_t238 = qc_t234 + qc_t237;
+    precise float qc_t239 = qc_t238 + qc_t188;
+    precise float qc_t240 = 1.0 * qc_t239;
+    precise float qc_t241 = qc_t232 * qc_q[1][0];
+    precise float qc_t242 = qc_q[0][0] * qc_t229;
     precise float qc_t243 = qc_t241 + qc_t242;
-    precise float qc_t244 = qc_t243 + qc_t196;
-    precise float qc_t245 = qc_t244 * qc_t227;
-    precise float qc_t246 = qc_t234 * qc_q[2][1];
-    precise float qc_t247 = qc_t230 * qc_q[1][1];
-    precise float qc_t248 = qc_t227 * qc_q[0][1];
-    precise float qc_t249 = qc_t247 + qc_t248;
-    precise float qc_t250 = qc_t246 + qc_t249;
-    precise float qc_t251 = qc_t250 + qc_t204;
-    precise float qc_t252 = qc_t230 * qc_t251;
-    precise float qc_t253 = qc_t245 + qc_t252;
-    precise float qc_t254 = qc_q[2][2] * qc_t234;
-    precise float qc_t255 = qc_q[0][2] * qc_t227;
-    precise float qc_t256 = qc_t230 * qc_q[1][2];
-    precise float qc_t257 = qc_t255 + qc_t256;
-    precise float qc_t258 = qc_t254 + qc_t257;
-    precise float qc_t259 = qc_t213 + qc_t258;
-    precise float qc_t260 = qc_t259 * qc_t234;
-    precise float qc_t261 = qc_t253 + qc_t260;
-    precise float qc_t262 = qc_t238 + qc_t261;
-    precise bool qc_t263 = qc_t262 <= 0.0;
-    precise bool qc_t264 = qc_t225 && qc_t263;
-    precise bool qc_t265 = qc_t220 || qc_t264;
-    precise float qc_t266 = qc_dir.y * qc_vz_row.y;
-    precise float qc_t267 = qc_dir.x * qc_vz_row.x;
-    precise float qc_t268 = qc_t266 + qc_t267;
-    precise float qc_t269 = qc_dir.z * qc_vz_row.z;
-    precise float qc_t270 = qc_t268 + qc_t269;
-    precise bool qc_t271 = !qc_t220;
-    precise bool qc_t272 = !qc_t159;
-    precise bool qc_t273 = !qc_t130;
-    precise bool qc_t274 = qc_t136 < qc_t108;
-    precise bool qc_t275 = qc_t273 || qc_t274;
-    precise bool qc_t276 = qc_t158 && qc_t275;
-    precise float qc_t277 = qc_t276 ? qc_t136 : qc_t108;
-    precise bool qc_t278 = qc_t174 < qc_t277;
-    precise bool qc_t279 = qc_t272 || qc_t278;
-    precise bool qc_t280 = qc_t219 && qc_t279;
-    precise float qc_t281 = qc_t280 ? qc_t174 : qc_t277;
-    precise bool qc_t282 = qc_t223 < qc_t281;
-    precise bool qc_t283 = qc_t271 || qc_t282;
-    precise bool qc_t284 = qc_t264 && qc_t283;
-    precise float qc_t285 = qc_t284 ? qc_t223 : qc_t281;
-    precise float qc_t286 = qc_t270 * qc_t285;
-    precise float qc_t287 = qc_t286 * qc_pz.x;
-    precise float qc_t288 = qc_t287 + qc_pz.y;
-    precise float qc_t289 = qc_pz.z * qc_t286;
-    precise float qc_t290 = qc_t289 + qc_pz.w;
-    precise float qc_t291 = qc_t288 / qc_t290;
-    precise float qc_t292 = 0.5 * qc_t291;
-    precise float qc_t293 = 0.5 + qc_t292;
-    precise bool qc_t294 = qc_t293 >= 0.0;
-    precise bool qc_t295 = qc_t265 && qc_t294;
-    precise bool qc_t296 = qc_t293 <= 1.0;
-    precise bool qc_t297 = qc_t295 && qc_t296;
-    qc_hit = qc_t297;
-    qc_depth = qc_t293;
-    precise float qc_t298 = (-1.0) * qc_axis.x;
-    precise float qc_t299 = 1.0 * qc_axis.x;
-    precise float qc_t300 = qc_t16 * qc_t136;
-    precise float qc_t301 = qc_t300 + qc_t29;
-    precise float qc_t302 = qc_t16 * qc_t108;
-    precise float qc_t303 = qc_t302 + qc_t29;
-    precise float qc_t304 = qc_t276 ? qc_t301 : qc_t303;
-    precise float qc_t305 = qc_t280 ? qc_t299 : qc_t304;
-    precise float qc_t306 = qc_t284 ? qc_t298 : qc_t305;
-    qc_normal.x = qc_t306;
-    precise float qc_t307 = (-1.0) * qc_axis.y;
-    precise float qc_t308 = 1.0 * qc_axis.y;
-    precise float qc_t309 = qc_t10 * qc_t136;
-    precise float qc_t310 = qc_t309 + qc_t37;
-    precise float qc_t311 = qc_t10 * qc_t108;
-    precise float qc_t312 = qc_t37 + qc_t311;
-    precise float qc_t313 = qc_t276 ? qc_t310 : qc_t312;
-    precise float qc_t314 = qc_t280 ? qc_t308 : qc_t313;
-    precise float qc_t315 = qc_t284 ? qc_t307 : qc_t314;
-    qc_normal.y = qc_t315;
-    precise float qc_t316 = (-1.0) * qc_axis.z;
-    precise float qc_t317 = 1.0 * qc_axis.z;
-    precise float qc_t318 = qc_t136 * qc_t4;
-    precise float qc_t319 = qc_t46 + qc_t318;
-    precise float qc_t320 = qc_t108 * qc_t4;
-    precise float qc_t321 = qc_t320 + qc_t46;
-    precise float qc_t322 = qc_t276 ? qc_t319 : qc_t321;
-    precise float qc_t323 = qc_t280 ? qc_t317 : qc_t322;
-    precise float qc_t324 = qc_t284 ? qc_t316 : qc_t323;
-    qc_normal.z = qc_t324;
+    precise float qc_t244 = qc_t236 * qc_q[2][0];
+    precise float qc_t245 = qc_t243 + qc_t244;
+    precise float qc_t246 = qc_t245 + qc_t196;
+    precise float qc_t247 = qc_t246 * qc_t229;
+    precise float qc_t248 = qc_t236 * qc_q[2][1];
+    precise float qc_t249 = qc_t232 * qc_q[1][1];
+    precise float qc_t250 = qc_t229 * qc_q[0][1];
+    precise float qc_t251 = qc_t249 + qc_t250;
+    precise float qc_t252 = qc_t248 + qc_t251;
+    precise float qc_t253 = qc_t252 + qc_t204;
+    precise float qc_t254 = qc_t232 * qc_t253;
+    precise float qc_t255 = qc_t247 + qc_t254;
+    precise float qc_t256 = qc_q[2][2] * qc_t236;
+    precise float qc_t257 = qc_q[0][2] * qc_t229;
+    precise float qc_t258 = qc_t232 * qc_q[1][2];
+    precise float qc_t259 = qc_t257 + qc_t258;
+    precise float qc_t260 = qc_t256 + qc_t259;
+    precise float qc_t261 = qc_t213 + qc_t260;
+    precise float qc_t262 = qc_t261 * qc_t236;
+    precise float qc_t263 = qc_t255 + qc_t262;
+    precise float qc_t264 = qc_t240 + qc_t263;
+    precise bool qc_t265 = qc_t264 <= 0.0;
+    precise bool qc_t266 = qc_t227 && qc_t265;
+    precise bool qc_t267 = qc_caps.y > 0.0;
+    precise bool qc_t268 = qc_t266 && qc_t267;
+    precise bool qc_t269 = qc_t222 || qc_t268;
+    precise float qc_t270 = qc_dir.y * qc_vz_row.y;
+    precise float qc_t271 = qc_dir.x * qc_vz_row.x;
+    precise float qc_t272 = qc_t270 + qc_t271;
+    precise float qc_t273 = qc_dir.z * qc_vz_row.z;
+    precise float qc_t274 = qc_t272 + qc_t273;
+    precise bool qc_t275 = !qc_t222;
+    precise bool qc_t276 = !qc_t159;
+    precise bool qc_t277 = !qc_t130;
+    precise bool qc_t278 = qc_t136 < qc_t108;
+    precise bool qc_t279 = qc_t277 || qc_t278;
+    precise bool qc_t280 = qc_t158 && qc_t279;
+    precise float qc_t281 = qc_t280 ? qc_t136 : qc_t108;
+    precise bool qc_t282 = qc_t174 < qc_t281;
+    precise bool qc_t283 = qc_t276 || qc_t282;
+    precise bool qc_t284 = qc_t221 && qc_t283;
+    precise float qc_t285 = qc_t284 ? qc_t174 : qc_t281;
+    precise bool qc_t286 = qc_t225 < qc_t285;
+    precise bool qc_t287 = qc_t275 || qc_t286;
+    precise bool qc_t288 = qc_t268 && qc_t287;
+    precise float qc_t289 = qc_t288 ? qc_t225 : qc_t285;
+    precise float qc_t290 = qc_t274 * qc_t289;
+    precise float qc_t291 = qc_t290 * qc_pz.x;
+    precise float qc_t292 = qc_pz.y + qc_t291;
+    precise float qc_t293 = qc_pz.z * qc_t290;
+    precise float qc_t294 = qc_pz.w + qc_t293;
+    precise float qc_t295 = qc_t292 / qc_t294;
+    precise float qc_t296 = 0.5 * qc_t295;
+    precise float qc_t297 = 0.5 + qc_t296;
+    precise bool qc_t298 = qc_t297 >= 0.0;
+    precise bool qc_t299 = qc_t269 && qc_t298;
+    precise bool qc_t300 = qc_t297 <= 1.0;
+    precise bool qc_t301 = qc_t299 && qc_t300;
+    qc_hit = qc_t301;
+    qc_depth = qc_t297;
+    precise float qc_t302 = (-1.0) * qc_axis.x;
+    precise float qc_t303 = 1.0 * qc_axis.x;
+    precise float qc_t304 = qc_t16 * qc_t136;
+    precise float qc_t305 = qc_t304 + qc_t29;
+    precise float qc_t306 = qc_t16 * qc_t108;
+    precise float qc_t307 = qc_t306 + qc_t29;
+    precise float qc_t308 = qc_t280 ? qc_t305 : qc_t307;
+    precise float qc_t309 = qc_t284 ? qc_t303 : qc_t308;
+    precise float qc_t310 = qc_t288 ? qc_t302 : qc_t309;
+    qc_normal.x = qc_t310;
+    precise float qc_t311 = (-1.0) * qc_axis.y;
+    precise float qc_t312 = 1.0 * qc_axis.y;
+    precise float qc_t313 = qc_t10 * qc_t136;
+    precise float qc_t314 = qc_t313 + qc_t37;
+    precise float qc_t315 = qc_t10 * qc_t108;
+    precise float qc_t316 = qc_t37 + qc_t315;
+    precise float qc_t317 = qc_t280 ? qc_t314 : qc_t316;
+    precise float qc_t318 = qc_t284 ? qc_t312 : qc_t317;
+    precise float qc_t319 = qc_t288 ? qc_t311 : qc_t318;
+    qc_normal.y = qc_t319;
+    precise float qc_t320 = (-1.0) * qc_axis.z;
+    precise float qc_t321 = 1.0 * qc_axis.z;
+    precise float qc_t322 = qc_t136 * qc_t4;
+    precise float qc_t323 = qc_t46 + qc_t322;
+    precise float qc_t324 = qc_t108 * qc_t4;
+    precise float qc_t325 = qc_t324 + qc_t46;
+    precise float qc_t326 = qc_t280 ? qc_t323 : qc_t325;
+    precise float qc_t327 = qc_t284 ? qc_t321 : qc_t326;
+    precise float qc_t328 = qc_t288 ? qc_t320 : qc_t327;
+    qc_normal.z = qc_t328;
 }
 
 void qc_shade_blinn_phong(in vec3 qc_n, in vec3 qc_l, in vec3 qc_e, in vec3 qc_color, in vec3 qc_light, in vec4 qc_material, out vec3 qc_rgb)
@@ -526,11 +538,12 @@ void main()
     vec3 n;
     vec3 ro, rd;
     qc_pixel_ray(qc_inv_view_proj, qc_eye, gl_FragCoord.xy, qc_viewport, ro, rd);
-    qc_fragment_slab_nocull_brute(qc_record_quadric(p), p.center.xyz, p.q2.z, p.axis.xyz, p.q2.w,
+    qc_fragment_slab_nocull_brute(qc_record_quadric(p), qc_record_center(p), qc_record_radius(p), qc_record_axis(p), qc_record_half_length(p),
+        qc_record_caps(p),
         ro, rd, qc_vz_row, qc_pz, hit, depth, n);
     if (!hit) discard;
     gl_FragDepth = depth;
     vec3 rgb;
-    qc_shade_blinn_phong(n, -qc_light_dir, -rd, p.color.rgb, qc_light_color, qc_material, rgb);
+    qc_shade_blinn_phong(n, -qc_light_dir, -rd, qc_record_color(p), qc_light_color, vec4(qc_material.xy, qc_record_material(p)), rgb);
     qc_color = vec4(rgb, 1.0);
 }

@@ -16,6 +16,7 @@ uniform float qc_reflectivity;
 
 flat in float qc_radius;
 flat in vec3 qc_prim_color;
+flat in vec2 qc_prim_material;
 in vec3 qc_o;
 flat in vec3 qc_v;
 layout(location = 0) out vec4 qc_color;
@@ -431,7 +432,7 @@ void main()
     if (!hit) discard;
     gl_FragDepth = depth;
     vec3 rgb;
-    qc_shade_blinn_phong(n, -qc_light_dir, -qc_v, qc_prim_color, qc_light_color, qc_material, rgb);
+    qc_shade_blinn_phong(n, -qc_light_dir, -qc_v, qc_prim_color, qc_light_color, vec4(qc_material.xy, qc_prim_material), rgb);
     rgb = qc_reflect_environment(rgb, n, -qc_v);
     qc_color = vec4(rgb, 1.0);
 }

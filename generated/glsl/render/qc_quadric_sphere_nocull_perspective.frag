@@ -14,6 +14,7 @@ uniform vec4 qc_material;     // ambient, diffuse, specular, shininess
 
 flat in float qc_radius;
 flat in vec3 qc_prim_color;
+flat in vec2 qc_prim_material;
 flat in vec3 qc_o;
 in vec3 qc_v;
 layout(location = 0) out vec4 qc_color;
@@ -251,6 +252,6 @@ void main()
     if (!hit) discard;
     gl_FragDepth = depth;
     vec3 rgb;
-    qc_shade_blinn_phong(n, -qc_light_dir, -qc_v, qc_prim_color, qc_light_color, qc_material, rgb);
+    qc_shade_blinn_phong(n, -qc_light_dir, -qc_v, qc_prim_color, qc_light_color, vec4(qc_material.xy, qc_prim_material), rgb);
     qc_color = vec4(rgb, 1.0);
 }

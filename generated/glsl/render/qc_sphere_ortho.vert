@@ -6,23 +6,31 @@
 // Numerics: float; every operation is its own `precise` statement (no contraction, no
 // reassociation); literals are exact; no built-in whose rounding differs from the CPU.
 
-struct qc_Primitive {
-    vec4 q0;      // A00 A01 A02 A11
-    vec4 q1;      // A12 A22 b0 b1
-    vec4 q2;      // b2 c radius half_length
-    vec4 center;  // xyz
-    vec4 axis;    // xyz (slab variants)
-    vec4 color;   // rgb
+struct qc_Primitive {  // quadcast::render::record_layout
+    vec4 s0;  // A00 A01 A02 A11
+    vec4 s1;  // A12 A22 b0 b1
+    vec4 s2;  // b2 c radius half_length
+    vec4 s3;  // center.x center.y center.z specular
+    vec4 s4;  // axis.x axis.y axis.z shininess
+    vec4 s5;  // red green blue 0
+    vec4 s6;  // cap+ cap- 0 0
 };
 layout(std430, binding = 0) readonly buffer qc_Primitives { qc_Primitive qc_prims[]; };
 
 mat4 qc_record_quadric(qc_Primitive p)
 {
-    return mat4(p.q0.x, p.q0.y, p.q0.z, p.q1.z,
-                p.q0.y, p.q0.w, p.q1.x, p.q1.w,
-                p.q0.z, p.q1.x, p.q1.y, p.q2.x,
-                p.q1.z, p.q1.w, p.q2.x, p.q2.y);
+    return mat4(p.s0.x, p.s0.y, p.s0.z, p.s1.z,
+                p.s0.y, p.s0.w, p.s1.x, p.s1.w,
+                p.s0.z, p.s1.x, p.s1.y, p.s2.x,
+                p.s1.z, p.s1.w, p.s2.x, p.s2.y);
 }
+vec3 qc_record_center(qc_Primitive p) { return vec3(p.s3.x, p.s3.y, p.s3.z); }
+float qc_record_radius(qc_Primitive p) { return p.s2.z; }
+vec3 qc_record_axis(qc_Primitive p) { return vec3(p.s4.x, p.s4.y, p.s4.z); }
+float qc_record_half_length(qc_Primitive p) { return p.s2.w; }
+vec2 qc_record_caps(qc_Primitive p) { return vec2(p.s6.x, p.s6.y); }
+vec3 qc_record_color(qc_Primitive p) { return vec3(p.s5.x, p.s5.y, p.s5.z); }
+vec2 qc_record_material(qc_Primitive p) { return vec2(p.s3.w, p.s4.w); }
 
 uniform mat4 qc_view;
 uniform mat4 qc_projection;
@@ -33,6 +41,7 @@ uniform uint qc_first;
 
 flat out float qc_radius;
 flat out vec3 qc_prim_color;
+flat out vec2 qc_prim_material;  // specular, shininess
 out vec3 qc_o;
 flat out vec3 qc_v;
 
@@ -116,11 +125,12 @@ void main()
     qc_Primitive p = qc_prims[prim];
     vec3 c0, c1, c2, c3;
     bool valid;
-    qc_primitive_bound_ortho(qc_view, p.center.xyz, p.q2.z, c0, c1, c2, c3, valid);
+    qc_primitive_bound_ortho(qc_view, qc_record_center(p), qc_record_radius(p), c0, c1, c2, c3, valid);
     vec3 corners[4] = vec3[4](c0, c1, c2, c3);
     vec3 corner = valid ? corners[k] : qc_near_corners[k];
-    qc_sphere_vertex_ortho(p.center.xyz, corner, qc_view_rot_inv, qc_eye, qc_o, qc_v);
-    qc_radius = p.q2.z;
-    qc_prim_color = p.color.rgb;
+    qc_sphere_vertex_ortho(qc_record_center(p), corner, qc_view_rot_inv, qc_eye, qc_o, qc_v);
+    qc_radius = qc_record_radius(p);
+    qc_prim_color = qc_record_color(p);
+    qc_prim_material = qc_record_material(p);
     gl_Position = qc_projection * vec4(corner, 1.0);
 }

@@ -293,7 +293,9 @@ private:
         gl.Uniform3fv(p.uniform_location("qc_color"), 1, m.color.c);
         gl.Uniform3fv(p.uniform_location("qc_light_dir"), 1, light.direction.c);
         gl.Uniform3fv(p.uniform_location("qc_light_color"), 1, light.color.c);
-        gl.Uniform4fv(p.uniform_location("qc_material"), 1, opt.material.c);
+        // The frame's ambient and diffuse weights with the isosurface's specular and shininess.
+        const float material[4] = {opt.material[0], opt.material[1], m.material.specular, m.material.shininess};
+        gl.Uniform4fv(p.uniform_location("qc_material"), 1, material);
     }
 
     const Api* api_;

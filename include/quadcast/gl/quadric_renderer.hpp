@@ -24,31 +24,16 @@
 #include "quadcast/gl/program.hpp"
 #include "quadcast/gl/scene_pass.hpp"
 #include "quadcast/render/cpu_renderer.hpp"
+#include "quadcast/render/record.hpp"
+#include "quadcast/render/validate.hpp"
 #include "quadcast/render/types.hpp"
 
 namespace quadcast::gl {
 
-/// The std430 record of one primitive; matches `qc_Primitive` in the generated shaders.
-struct PrimitiveRecord {
-    float q0[4];      ///< A00 A01 A02 A11
-    float q1[4];      ///< A12 A22 b0 b1
-    float q2[4];      ///< b2 c radius half_length
-    float center[4];
-    float axis[4];
-    float color[4];
-};
-static_assert(sizeof(PrimitiveRecord) == 96);
-
-/// Packs a primitive into its record (reads the upper triangle of the local quadric).
-inline PrimitiveRecord pack(const render::Primitive& p) {
-    const Mat4<float>& q = p.shape.q.q;
-    return PrimitiveRecord{{q[0][0], q[1][0], q[2][0], q[1][1]},
-                           {q[2][1], q[2][2], q[3][0], q[3][1]},
-                           {q[3][2], q[3][3], p.shape.radius, p.shape.half_length},
-                           {p.shape.center[0], p.shape.center[1], p.shape.center[2], 0.0f},
-                           {p.shape.axis[0], p.shape.axis[1], p.shape.axis[2], 0.0f},
-                           {p.color[0], p.color[1], p.color[2], 1.0f}};
-}
+/// The std430 record of one primitive (quadcast::render::record_layout; `qc_Primitive` in the
+/// generated shaders is declared from the same layout).
+using PrimitiveRecord = std::array<float, render::record_slots * 4>;
+static_assert(sizeof(PrimitiveRecord) == 16 * render::record_slots);
 
 /// Renders primitives into an offscreen framebuffer (RGBA8 colour, 32-bit float depth) of the
 /// context current when it is constructed. Not thread-safe (GL contexts are not).
@@ -75,7 +60,7 @@ public:
 
     /// Which fragment stage the forward pass uses (`quadcast bench fragments`): the incremental
     /// cast of the interpolated ray (default); brute force, which rebuilds the pixel's world ray
-    /// from gl_FragCoord (`pixel_ray`) and runs `local_ray` and `cast` per fragment (same image,
+    /// from gl_FragCoord (`pixel_ray`) and runs `local_ray` and `cast_ray` per fragment (same image,
     /// perspective camera and forward shading only); or a pass-through stage writing a constant
     /// colour and the rasterised depth over the same bounding quads (the fill-rate ceiling).
     enum class FragmentStage { incremental, brute_force, passthrough };
@@ -91,8 +76,11 @@ public:
     void add_pass(ScenePass& p) { passes_.push_back(&p); }
     void clear_passes() { passes_.clear(); }
 
-    /// Uploads the primitives (grouped by variant). Call again when they change.
+    /// Uploads the primitives (grouped by variant). Call again when they change. Throws
+    /// std::invalid_argument (quadcast::render::validate) for a primitive that cannot be drawn
+    /// as it says, before anything is uploaded.
     void set_primitives(const std::vector<render::Primitive>& prims) {
+        render::validate_primitives(prims);
         std::vector<PrimitiveRecord> records;
         std::vector<float> planes;  // 16 floats per primitive of the planes variant, in record order
         records.reserve(prims.size());
@@ -101,7 +89,7 @@ public:
             ranges_[v] = {static_cast<std::uint32_t>(records.size()), 0};
             for (const auto& p : prims) {
                 if (static_cast<int>(p.variant) != v) continue;
-                records.push_back(pack(p));
+                records.push_back(render::pack_record(p));
                 if (p.variant == render::Variant::planes)
                     for (const auto& pl : p.shape.planes) planes.insert(planes.end(), pl.c, pl.c + 4);
             }
@@ -199,20 +187,29 @@ public:
     /// bound framebuffer, then the other passes (`add_pass`).
     void draw_primitives(const render::Camera& cam, const render::Light& light, const render::RenderOptions& opt, bool deferred) {
         const Api& gl = *api_;
+        // The bounding geometry (quads, tetrahedron faces) is a stand-in: the fragment stage
+        // computes the depth and keeps only hits in [0, 1]. Without depth clamping GL would clip
+        // the stand-in itself at the near and far planes, losing the visible part of a primitive
+        // whose quad lies beyond the far plane or in front of the near plane.
+        gl.Enable(GL_DEPTH_CLAMP);
         gl.BindVertexArray(vao_);
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, ssbo_);
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, planes_);
         for (int v = 0; v < render::variant_count; ++v) {
             if (ranges_[v].second == 0) continue;
-            const Program& prog = program(static_cast<render::Variant>(v), opt.culling, cam.orthographic, deferred, opt.environment != nullptr);
+            const auto variant = static_cast<render::Variant>(v);
+            const bool cull = render::cast_options(variant, opt.culling).cull;
+            const Program& prog = program(variant, cull, cam.orthographic, deferred, opt.environment != nullptr);
             gl.UseProgram(prog.id());
             set_uniforms(prog, cam, light, opt);
+            gl.Uniform1i(prog.uniform_location("qc_cull"), cull && !cam.orthographic ? 1 : 0);
             gl.Uniform1ui(prog.uniform_location("qc_first"), ranges_[v].first);
-            gl.Uniform1i(prog.uniform_location("qc_caps"), static_cast<render::Variant>(v) == render::Variant::slab ? 1 : 0);
+            gl.Uniform1i(prog.uniform_location("qc_caps"), variant == render::Variant::slab ? 1 : 0);
             gl.DrawElements(GL_TRIANGLES, static_cast<GLsizei>(6 * ranges_[v].second), GL_UNSIGNED_INT, nullptr);
         }
         gl.BindTextureUnit(4, 0);
         for (ScenePass* p : passes_) p->draw(cam, light, opt, deferred);
+        gl.Disable(GL_DEPTH_CLAMP);
     }
 
     /// Reads back the last frame (rows top first, like the CPU renderer).
@@ -225,14 +222,15 @@ public:
 private:
     /// env: forward shading with environment reflection (the geometry-buffer programs do not shade).
     const Program& program(render::Variant v, bool cull, bool ortho, bool gbuffer = false, bool env = false) {
-        const std::string variant = std::string(render::variant_name(v)) + (cull ? "" : "_nocull");
+        // Open slabs use the slab stages (the caps come from the record), never culled.
+        const std::string variant = std::string(render::variant_name(v == render::Variant::open_slab ? render::Variant::slab : v)) + (cull ? "" : "_nocull");
         const std::string proj = ortho ? "ortho" : "perspective";
         const std::string vs = (v == render::Variant::sphere ? "qc_sphere_" : "qc_quadric_") + proj + ".vert";
         if (stage_ != FragmentStage::incremental && !gbuffer) {
             if (stage_ == FragmentStage::passthrough) return program(vs, "qc_passthrough.frag");
             if (ortho) throw std::runtime_error("quadcast::gl::QuadricRenderer: the brute-force fragment stage needs a perspective camera");
             if (v == render::Variant::sphere)
-                throw std::runtime_error("quadcast::gl::QuadricRenderer: the brute-force fragment stage has no sphere variant (use Variant::closed)");
+                throw std::runtime_error("quadcast::gl::QuadricRenderer: the brute-force fragment stage has no sphere variant (use Variant::ellipsoid)");
             return program(vs, "qc_quadric_" + variant + "_brute_perspective.frag");
         }
         if (stage_ != FragmentStage::incremental && gbuffer)
@@ -368,7 +366,6 @@ private:
         gl.UniformMatrix3fv(p.uniform_location("qc_view_rot_inv"), 1, GL_FALSE, rot_inv);
         gl.Uniform3fv(p.uniform_location("qc_eye"), 1, cam.eye.c);
         gl.Uniform3fv(p.uniform_location("qc_near_corners"), 4, near.data());
-        gl.Uniform1i(p.uniform_location("qc_cull"), opt.culling && !cam.orthographic ? 1 : 0);
         gl.Uniform3fv(p.uniform_location("qc_vz_row"), 1, vz_row);
         gl.Uniform4fv(p.uniform_location("qc_pz"), 1, pz);
         gl.Uniform3fv(p.uniform_location("qc_light_dir"), 1, light.direction.c);
@@ -385,32 +382,9 @@ private:
         }
     }
 
-    /// (projection view)^-1 in double (Gauss-Jordan with partial pivoting), rounded to float.
+    /// (projection view)^-1 in double (`host_inverse`), rounded to float.
     static Mat4<float> inverse_view_projection(const render::Camera& cam) {
-        double a[4][8] = {};
-        for (int r = 0; r < 4; ++r)
-            for (int c = 0; c < 4; ++c) {
-                double s = 0.0;
-                for (int k = 0; k < 4; ++k) s += static_cast<double>(cam.projection[k][r]) * static_cast<double>(cam.view[c][k]);
-                a[r][c] = s;
-                a[r][4 + c] = r == c ? 1.0 : 0.0;
-            }
-        for (int c = 0; c < 4; ++c) {
-            int piv = c;
-            for (int r = c + 1; r < 4; ++r) if (std::abs(a[r][c]) > std::abs(a[piv][c])) piv = r;
-            for (int k = 0; k < 8; ++k) std::swap(a[c][k], a[piv][k]);
-            const double d = a[c][c];
-            for (int k = 0; k < 8; ++k) a[c][k] /= d;
-            for (int r = 0; r < 4; ++r) {
-                if (r == c) continue;
-                const double f = a[r][c];
-                for (int k = 0; k < 8; ++k) a[r][k] -= f * a[c][k];
-            }
-        }
-        Mat4<float> m{};
-        for (int r = 0; r < 4; ++r)
-            for (int c = 0; c < 4; ++c) m[c][r] = static_cast<float>(a[r][4 + c]);
-        return m;
+        return cast<float>(host_inverse(cast<double>(cam.projection) * cast<double>(cam.view)));
     }
 
     /// View-space corners of the near-plane rectangle (for primitives whose bounding sphere

@@ -3,7 +3,7 @@
 
 // Host-only. The numbers come from the shared templates the GL stages are traced from
 // (codegen/src/stages.cpp): `sphere_quad` bounds a primitive, `local_ray` builds the ray terms,
-// `cull_sphere` culls per quadric, `cast<cast_options(variant, culling)>` finds the hit,
+// `cull_sphere` culls per quadric, `cast_ray<cast_options(variant, culling)>` finds the hit,
 // `window_depth` its depth and `shade_blinn_phong` its colour. What is written here is only the
 // plumbing around them: pixel rays, screen tiles, a depth test, 8-bit conversion, threads.
 //
@@ -18,22 +18,25 @@
 // - Depth is kept in float (a GL depth buffer may be 24-bit); the depth test is GL_LESS against
 //   a cleared depth of 1, first primitive (lowest index) wins ties.
 // - Per-quadric culling is `cull_primitive` (`cull_primitive_with_caps` for the capped slab
-//   variant), the rule the GL vertex stage uses.
+//   variant; never for open slabs), the rule the GL vertex stage uses.
 
 #include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <stdexcept>
+#include <string>
 #include <thread>
 #include <vector>
 
 #include "quadcast/bounds.hpp"
 #include "quadcast/cull.hpp"
 #include "quadcast/linalg.hpp"
+#include "quadcast/quadric.hpp"
 #include "quadcast/raycast.hpp"
 #include "quadcast/render/environment.hpp"
 #include "quadcast/render/types.hpp"
+#include "quadcast/render/validate.hpp"
 #include "quadcast/shading.hpp"
 
 namespace quadcast::render {
@@ -74,39 +77,13 @@ struct Fragment {
 
 namespace cpu_detail {
 
-/// Inverse of a 4x4 matrix by Gauss-Jordan elimination with partial pivoting in long double.
-/// Throws std::invalid_argument when it is singular or not finite.
+/// `host_inverse` with the renderer's message.
 inline Mat4<double> inverse4(const Mat4<double>& m) {
-    long double a[4][8];
-    for (int i = 0; i < 4; ++i)
-        for (int j = 0; j < 4; ++j) {
-            a[i][j] = static_cast<long double>(m[j][i]);
-            a[i][j + 4] = i == j ? 1.0L : 0.0L;
-        }
-    long double scale = 0;
-    for (int i = 0; i < 4; ++i)
-        for (int j = 0; j < 4; ++j) scale = std::max(scale, std::fabs(a[i][j]));
-    if (!std::isfinite(static_cast<double>(scale)) || scale == 0)
-        throw std::invalid_argument("quadcast::render: projection matrix is zero or not finite");
-    for (int c = 0; c < 4; ++c) {
-        int p = c;
-        for (int i = c + 1; i < 4; ++i)
-            if (std::fabs(a[i][c]) > std::fabs(a[p][c])) p = i;
-        if (std::fabs(a[p][c]) <= 1e-12L * scale) throw std::invalid_argument("quadcast::render: projection matrix is singular");
-        if (p != c)
-            for (int j = 0; j < 8; ++j) std::swap(a[p][j], a[c][j]);
-        const long double d = a[c][c];
-        for (int j = 0; j < 8; ++j) a[c][j] /= d;
-        for (int i = 0; i < 4; ++i) {
-            if (i == c) continue;
-            const long double f = a[i][c];
-            for (int j = 0; j < 8; ++j) a[i][j] -= f * a[c][j];
-        }
+    try {
+        return host_inverse(m);
+    } catch (const std::invalid_argument& e) {
+        throw std::invalid_argument(std::string("quadcast::render: projection matrix: ") + e.what());
     }
-    Mat4<double> r{};
-    for (int i = 0; i < 4; ++i)
-        for (int j = 0; j < 4; ++j) r[j][i] = static_cast<double>(a[i][j + 4]);
-    return r;
 }
 
 /// The pixel index range whose centres (i + 0.5) lie in the window interval [lo, hi] widened
@@ -241,7 +218,7 @@ inline PixelRay pixel_ray(const FrameSetup& f, int x, int y) {
     return {f.eye, f.view_rot_inv * p};
 }
 
-/// The fragment stage for one primitive at one pixel ray: `cast` of the primitive's variant
+/// The fragment stage for one primitive at one pixel ray: `cast_ray` of the primitive's variant
 /// (front root only when `culling`), `window_depth`, hit = hit && 0 <= depth <= 1.
 /// (Per-quadric culling is not applied here; see `culled`.)
 inline Fragment cast_fragment(const Primitive& p, const PixelRay& ray, const FrameSetup& f, bool culling) {
@@ -255,19 +232,26 @@ inline Fragment cast_fragment(const Primitive& p, const PixelRay& ray, const Fra
 /// Not for the `slab` variant: `cull_sphere` tests the quadric alone, but a slab's caps can
 /// face the eye when its wall does not (a cylinder seen end-on from inside its infinite
 /// extension would vanish). Not for the `sphere` variant either, as its vertex stage: from outside
-/// a sphere shows its front, from inside the fragment stage finds no front root.
+/// a sphere shows its front, from inside the fragment stage finds no front root. Never for an
+/// `open_slab`, whose inside shows through its open ends.
 inline bool culled(const Primitive& p, const FrameSetup& f) {
-    if (f.orthographic || p.variant == Variant::sphere) return false;
+    if (f.orthographic || p.variant == Variant::sphere || p.variant == Variant::open_slab) return false;
     const LocalRay<float> r = local_ray(p.shape, f.eye, vec3(0.0f, 0.0f, -1.0f));
     return p.variant == Variant::slab ? cull_primitive_with_caps(p.shape, r.o) : cull_primitive(p.shape, r.o);
 }
 
+/// The Blinn-Phong material vector of a primitive: the frame's ambient and diffuse weights, the
+/// primitive's specular and shininess (what the GL stages assemble from the record).
+inline Vec4<float> shading_material(const Primitive& p, const RenderOptions& options) {
+    return vec4(options.material[0], options.material[1], p.material.specular, p.material.shininess);
+}
+
 /// The RGBA8 of a fragment: `shade_blinn_phong(n, -light.direction, -dir, color, light.color,
-/// material)`, with options.environment its `reflect_environment(..., n, -dir, reflectivity)`,
-/// converted as a GL UNORM8 framebuffer does, alpha 255.
+/// shading_material(p, options))`, with options.environment its `reflect_environment(..., n, -dir,
+/// reflectivity)`, converted as a GL UNORM8 framebuffer does, alpha 255.
 inline void shade_pixel(const Primitive& p, const Vec3<float>& normal, const Vec3<float>& dir, const Light& light,
                         const RenderOptions& options, std::uint8_t* rgba) {
-    Vec3<float> c = shade_blinn_phong(normal, -light.direction, -dir, p.color, light.color, options.material);
+    Vec3<float> c = shade_blinn_phong(normal, -light.direction, -dir, p.color, light.color, shading_material(p, options));
     if (options.environment) c = reflect_environment(*options.environment, c, normal, -dir, options.reflectivity);
     for (int i = 0; i < 3; ++i) rgba[i] = cpu_detail::to_unorm8(c[i]);
     rgba[3] = 255;
@@ -430,11 +414,13 @@ void parallel_for(int n, int threads, Fn&& fn) {
 /// changes nothing here (every pixel is shaded once anyway). options.environment: the reflection
 /// is mixed into the shaded colour (before the outline), as both GL paths do.
 /// FrameStats: primitives = input count, culled = per-quadric culled, fragments = cast() calls,
-/// hits = casts with a hit in the depth range (before the depth test).
+/// hits = casts with a hit in the depth range (before the depth test). Throws like `validate` for a
+/// primitive that cannot be drawn as it says.
 inline Image render_cpu(const std::vector<Primitive>& prims, const Camera& camera, const Light& light,
                         const RenderOptions& options, FrameStats* stats = nullptr, int threads = 0) {
     using namespace cpu_detail;
     const FrameSetup f = frame_setup(camera, options.width, options.height);
+    validate_primitives(prims);
     if (threads <= 0) threads = std::max(1u, std::thread::hardware_concurrency());
     const int n = static_cast<int>(prims.size());
     const int tiles_x = (f.width + tile_size - 1) / tile_size, tiles_y = (f.height + tile_size - 1) / tile_size;
@@ -530,9 +516,9 @@ inline Image render_cpu(const std::vector<Primitive>& prims, const Camera& camer
                         const Primitive& p = prims[s.prim[k]];
                         if (options.shadows) {
                             const float vis = shadow_visibility(shadow, float(x) + 0.5f, float(y) + 0.5f, s.depth[k]);
-                            c = shade_blinn_phong_shadowed(s.normal[k], -light.direction, -s.ray[k].dir, p.color, light.color, options.material, vis);
+                            c = shade_blinn_phong_shadowed(s.normal[k], -light.direction, -s.ray[k].dir, p.color, light.color, shading_material(p, options), vis);
                         } else {
-                            c = shade_blinn_phong(s.normal[k], -light.direction, -s.ray[k].dir, p.color, light.color, options.material);
+                            c = shade_blinn_phong(s.normal[k], -light.direction, -s.ray[k].dir, p.color, light.color, shading_material(p, options));
                         }
                         if (options.environment)
                             c = reflect_environment(*options.environment, c, s.normal[k], -s.ray[k].dir, options.reflectivity);

@@ -57,6 +57,7 @@ struct VolumeModel {
     VolumeScheme scheme = VolumeScheme::qss;
     float iso = 0.0f;
     Vec3<float> color{{0.8f, 0.8f, 0.8f}};
+    Material material;                       ///< specular and shininess of the isosurface
     Vec3<double> origin{{0.0, 0.0, 0.0}};   ///< world position of sample (0,0,0)
     Vec3<double> spacing{{1.0, 1.0, 1.0}};  ///< world distance of neighbouring samples per axis
     int nx = 0, ny = 0, nz = 0;              ///< sample counts
@@ -458,7 +459,7 @@ inline void depth_range_lambda(const FrameSetup& f, float vz, double& lmin, doub
 /// Renders the isosurface of each model (nearest hit over all models wins) with the CPU:
 /// per pixel centre the ray of `pixel_ray`, `cast_volume_ray` over the λ range of depth [0, 1],
 /// depth by `window_depth`, colour by `shade_blinn_phong(gradient, -light.direction, -dir,
-/// model.color, light.color, options.material)` (two-sided); elsewhere the background and
+/// model.color, light.color, (options.material[0..1], model.material))` (two-sided); elsewhere the background and
 /// depth 1. Rows top first. `threads` = 0: hardware concurrency.
 inline Image render_volumes_cpu(const std::vector<const VolumeModel*>& models, const Camera& camera, const Light& light,
                                 const RenderOptions& options, VolumeFrameStats* stats = nullptr, int threads = 0) {
@@ -487,6 +488,7 @@ inline Image render_volumes_cpu(const std::vector<const VolumeModel*>& models, c
                 depth_range_lambda(f, vz, lmin, lmax);
                 float best_depth = 1.0f;
                 Vec3<float> normal{}, color{};
+                Vec4<float> material = options.material;
                 bool any = false;
                 for (const VolumeModel* m : models) {
                     VolumeCastStats cs;
@@ -499,6 +501,7 @@ inline Image render_volumes_cpu(const std::vector<const VolumeModel*>& models, c
                     best_depth = depth;
                     normal = h.gradient;
                     color = m->color;
+                    material = vec4(options.material[0], options.material[1], m->material.specular, m->material.shininess);
                     any = true;
                 }
                 img.depth[o] = best_depth;
@@ -507,7 +510,7 @@ inline Image render_volumes_cpu(const std::vector<const VolumeModel*>& models, c
                     continue;
                 }
                 ++st.hits;
-                const Vec3<float> c = shade_blinn_phong(normal, -light.direction, -ray.dir, color, light.color, options.material);
+                const Vec3<float> c = shade_blinn_phong(normal, -light.direction, -ray.dir, color, light.color, material);
                 for (int i = 0; i < 3; ++i) px[i] = to_unorm8(c[i]);
                 px[3] = 255;
             }

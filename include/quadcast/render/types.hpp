@@ -13,30 +13,51 @@ namespace quadcast::render {
 
 /// The fragment-stage variant a primitive needs (a scene compiles only the variants it uses).
 enum class Variant : std::uint8_t {
-    closed,        ///< closed quadric, no clipping (spheres, ellipsoids): CastOptions{cull, slab=false, bound=false}
-    slab,          ///< slab with caps (cylinders, cones):                   CastOptions{cull, slab=true,  bound=false}
+    ellipsoid,     ///< closed quadric, no clipping (ellipsoids):            CastOptions{cull, slab=false, bound=false}
+    slab,          ///< slab closed by both caps (cylinders, cones):          CastOptions{cull, slab=true,  bound=false}
+    open_slab,     ///< slab with an open end (open cylinders and cones): both sides are visible, so never culled,
+                   ///< and each end is closed only where shape.caps says:  CastOptions{cull=false, slab=true}
     bounded,       ///< clipped to its bounding sphere (general quadrics):   CastOptions{cull, slab=false, bound=true}
     planes,        ///< clipped to four planes (bilinear quads, planar quads, tetrahedral patches)
     sphere,        ///< the sphere |x| = radius in closed form (CastOptions::sphere): no quadric coefficients, no g, a
 };
-inline constexpr int variant_count = 5;
+inline constexpr int variant_count = 6;
 
-/// The CastOptions of a variant.
+/// The CastOptions of a variant (open slabs are two-sided whatever `cull` says).
 constexpr CastOptions cast_options(Variant v, bool cull) {
-    return CastOptions{cull, v == Variant::slab, v == Variant::bounded, v == Variant::planes, v == Variant::sphere};
+    const bool slab = v == Variant::slab || v == Variant::open_slab;
+    return CastOptions{cull && v != Variant::open_slab, slab, v == Variant::bounded, v == Variant::planes, v == Variant::sphere};
 }
 
-/// Kernel/shader name of a variant: closed, slab, bounded, planes, sphere.
+/// Name of a variant: ellipsoid, slab, open_slab, bounded, planes, sphere.
 constexpr const char* variant_name(Variant v) {
-    return v == Variant::closed ? "closed" : v == Variant::slab ? "slab" : v == Variant::bounded ? "bounded" : v == Variant::planes ? "planes" : "sphere";
+    switch (v) {
+    case Variant::ellipsoid: return "ellipsoid";
+    case Variant::slab: return "slab";
+    case Variant::open_slab: return "open_slab";
+    case Variant::bounded: return "bounded";
+    case Variant::planes: return "planes";
+    case Variant::sphere: return "sphere";
+    }
+    return "?";
 }
 
-/// One primitive to draw, in float as the GPU stores it. Closed and bounded primitives have
-/// shape.half_length = +Inf.
+/// Blinn-Phong material of one primitive (`shade_blinn_phong`): specular in [0, 1] scales the
+/// highlight, shininess > 0 is its exponent. Ambient and diffuse weights are the frame's
+/// (RenderOptions::material[0], [1]).
+struct Material {
+    float specular = 0.35f;
+    float shininess = 48.0f;
+};
+
+/// One primitive to draw, in float as the GPU stores it. Ellipsoid, bounded and sphere
+/// primitives have shape.half_length = +Inf. Build them with quadcast/shapes.hpp, which
+/// validates; `validate` (quadcast/render/validate.hpp) checks a hand-made one.
 struct Primitive {
     QuadricPrimitive<float> shape;
     Variant variant;
     Vec3<float> color;
+    Material material;
 };
 
 /// A camera as both renderers use it. view: world -> view (rigid); projection: OpenGL clip
@@ -67,7 +88,9 @@ struct RenderOptions {
     int width = 1024, height = 768;
     bool culling = true;                                  ///< per-fragment front-root selection + per-quadric culling
     Vec3<float> background{{1.0f, 1.0f, 1.0f}};
-    Vec4<float> material{{0.15f, 0.85f, 0.35f, 48.0f}};   ///< ambient, diffuse, specular, shininess
+    /// Ambient and diffuse weights of every primitive's shading ([2], [3]: the specular and
+    /// shininess of geometry without a Material of its own, e.g. meshes).
+    Vec4<float> material{{0.15f, 0.85f, 0.35f, 48.0f}};
     /// Deferred shading (Sigg et al. 2006, sec. 4): the quadric pass writes a geometry buffer
     /// (normal, depth, ray direction, colour) and a full-screen pass shades each pixel once. Same
     /// image as forward shading. The GL renderer uses it whenever `silhouettes` is set too; the

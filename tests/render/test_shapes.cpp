@@ -1,0 +1,408 @@
+// tests/render/test_shapes.cpp -- the public shapes API drawn by the CPU reference, against
+// independent long-double ray tracers (open and capped tubes and cones, twisted bilinear patches)
+#include <doctest/doctest.h>
+
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <optional>
+#include <string>
+
+#include "quadcast/shapes.hpp"
+#include "render/render_testing.hpp"
+
+using namespace qc_render_test;
+namespace shapes = quadcast::shapes;
+
+namespace {
+
+V3 ldv(const glm::vec3& v) { return vec3(LD(v[0]), LD(v[1]), LD(v[2])); }
+V3 cross_ld(const V3& a, const V3& b) { return vec3(a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]); }
+
+/// Nearest t > 0 where the ray meets a circular cylinder p0-p1 of radius r whose ends are
+/// closed where cap0 / cap1 say (the wall between the end planes, each closed end's disc).
+LD tube_hit(const V3& o, const V3& d, const V3& p0, const V3& p1, LD r, bool cap0, bool cap1) {
+    const V3 ax = (p1 - p0) / norm_ld(p1 - p0);
+    const LD len = norm_ld(p1 - p0);
+    LD best = -1;
+    auto take = [&](LD t) { if (t > 0 && (best < 0 || t < best)) best = t; };
+    const V3 op = o - p0;
+    const V3 dp = d - ax * dot_ld(d, ax), opp = op - ax * dot_ld(op, ax);
+    const LD qa = dot_ld(dp, dp), qb = dot_ld(opp, dp), qc = dot_ld(opp, opp) - r * r;
+    const LD disc = qb * qb - qa * qc;
+    if (qa > 0 && disc >= 0) {
+        for (LD t : {(-qb - std::sqrt(disc)) / qa, (-qb + std::sqrt(disc)) / qa}) {
+            const LD s = dot_ld(op + d * t, ax);
+            if (s >= 0 && s <= len) take(t);
+        }
+    }
+    for (int e = 0; e < 2; ++e) {
+        if (!(e == 0 ? cap0 : cap1)) continue;
+        const V3 c = e == 0 ? p0 : p1;
+        const LD den = dot_ld(d, ax);
+        if (den == 0) continue;
+        const LD t = dot_ld(c - o, ax) / den;
+        const V3 x = o + d * t - c;
+        if (dot_ld(x, x) <= r * r) take(t);
+    }
+    return best;
+}
+
+/// Nearest t > 0 on the cone from `apex` to the disc of radius r at `base` (the disc if capped).
+LD cone_hit(const V3& o, const V3& d, const V3& apex, const V3& base, LD r, bool cap) {
+    const LD H = norm_ld(base - apex);
+    const V3 ax = (base - apex) / H;
+    const LD k = r / H;
+    LD best = -1;
+    auto take = [&](LD t) { if (t > 0 && (best < 0 || t < best)) best = t; };
+    // |x_perp|^2 = k^2 s^2 with s = (x - apex).ax in [0, H]
+    const V3 oa = o - apex;
+    const LD ds = dot_ld(d, ax), os = dot_ld(oa, ax);
+    const V3 dp = d - ax * ds, opp = oa - ax * os;
+    const LD qa = dot_ld(dp, dp) - k * k * ds * ds, qb = dot_ld(opp, dp) - k * k * os * ds, qc = dot_ld(opp, opp) - k * k * os * os;
+    if (qa != 0) {
+        const LD disc = qb * qb - qa * qc;
+        if (disc >= 0)
+            for (LD t : {(-qb - std::sqrt(disc)) / qa, (-qb + std::sqrt(disc)) / qa}) {
+                const LD s = os + ds * t;
+                if (s >= 0 && s <= H) take(t);
+            }
+    }
+    if (cap && ds != 0) {
+        const LD t = (H - os) / ds;
+        const V3 x = o + d * t - base;
+        if (dot_ld(x, x) <= r * r) take(t);
+    }
+    return best;
+}
+
+/// Every t > 0 where the ray meets the bilinear patch P(u, v), u, v in [0, 1] (Ramsey et al.'s
+/// approach: two planes through the ray give two bilinear equations in u, v), nearest first; -1
+/// if none. Independent of quadcast's quadric form of the patch.
+LD patch_hit(const V3& o, const V3& d, const std::array<V3, 4>& p) {
+    // P(u, v) = p1 + u A + v B + uv C
+    const V3 A = p[1] - p[0], B = p[3] - p[0], C = (p[0] - p[1]) + (p[2] - p[3]);
+    // Two normals perpendicular to d
+    V3 n1 = std::fabs(d[0]) > std::fabs(d[1]) ? vec3(-d[2], LD(0), d[0]) : vec3(LD(0), d[2], -d[1]);
+    n1 = n1 / norm_ld(n1);
+    V3 n2 = cross_ld(d, n1);
+    n2 = n2 / norm_ld(n2);
+    // n.(P - o) = a uv + b u + c v + e
+    const LD a1 = dot_ld(n1, C), b1 = dot_ld(n1, A), c1 = dot_ld(n1, B), e1 = dot_ld(n1, p[0] - o);
+    const LD a2 = dot_ld(n2, C), b2 = dot_ld(n2, A), c2 = dot_ld(n2, B), e2 = dot_ld(n2, p[0] - o);
+    // Eliminate u: u (a1 v + b1) = -(c1 v + e1), u (a2 v + b2) = -(c2 v + e2)
+    // => (c1 v + e1)(a2 v + b2) - (c2 v + e2)(a1 v + b1) = 0
+    const LD qa = c1 * a2 - c2 * a1, qb = c1 * b2 + e1 * a2 - c2 * b1 - e2 * a1, qc = e1 * b2 - e2 * b1;
+    LD vs[2];
+    int nv = 0;
+    if (std::fabs(qa) < 1e-30L) {
+        if (qb != 0) vs[nv++] = -qc / qb;
+    } else {
+        const LD disc = qb * qb - 4 * qa * qc;
+        if (disc >= 0) {
+            vs[nv++] = (-qb - std::sqrt(disc)) / (2 * qa);
+            vs[nv++] = (-qb + std::sqrt(disc)) / (2 * qa);
+        }
+    }
+    LD best = -1;
+    for (int i = 0; i < nv; ++i) {
+        const LD v = vs[i];
+        const LD den1 = a1 * v + b1, den2 = a2 * v + b2;
+        const LD u = std::fabs(den1) > std::fabs(den2) ? -(c1 * v + e1) / den1 : -(c2 * v + e2) / den2;
+        if (!(u >= 0 && u <= 1 && v >= 0 && v <= 1)) continue;
+        const V3 x = p[0] + A * u + B * v + C * (u * v);
+        const LD t = dot_ld(x - o, d) / dot_ld(d, d);
+        if (t > 0 && (best < 0 || t < best)) best = t;
+    }
+    return best;
+}
+
+struct Comparison {
+    long reference = 0;      ///< pixels the reference covers
+    long mismatch = 0;       ///< coverage differs
+    long interior_miss = 0;  ///< the reference covers the pixel and its 8 neighbours, the render does not
+    long depth_bad = 0;      ///< both cover, window depth differs by more than 1e-4
+};
+
+/// Renders `prims` with the CPU reference and compares every pixel with `hit(o, d)` (nearest t or
+/// -1) traced in long double through the exact pixel rays.
+template <class Hit>
+Comparison compare_with(const std::vector<Primitive>& prims, const Camera& cam, int w, int h, Hit&& hit, bool culling = true) {
+    RenderOptions o;
+    o.width = w;
+    o.height = h;
+    o.culling = culling;
+    Light light;
+    const Image img = render_cpu(prims, cam, light, o);
+    const ExactCamera ex(cam, w, h);
+    std::vector<LD> ref(std::size_t(w) * h, LD(2));
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            V3 ro, rd;
+            ex.ray(x, y, ro, rd);
+            const LD t = hit(ro, rd);
+            if (t > 0) {
+                const LD z = ex.view_z(ro + rd * t);
+                const LD dep = exact_depth(cam.projection, z);
+                if (dep >= 0 && dep <= 1) ref[std::size_t(y) * w + x] = dep;
+            }
+        }
+    Comparison c;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const bool r = ref[std::size_t(y) * w + x] < 2;
+            const bool g = covered(img, x, y);
+            c.reference += r;
+            if (r != g) {
+                ++c.mismatch;
+                bool interior = r;
+                for (int dy = -1; dy <= 1 && interior; ++dy)
+                    for (int dx = -1; dx <= 1 && interior; ++dx) {
+                        const int xx = std::clamp(x + dx, 0, w - 1), yy = std::clamp(y + dy, 0, h - 1);
+                        interior = ref[std::size_t(yy) * w + xx] < 2;
+                    }
+                c.interior_miss += interior && !g;
+                continue;
+            }
+            if (r && std::fabs(double(ref[std::size_t(y) * w + x]) - double(depth_at(img, x, y))) > 1e-4) ++c.depth_bad;
+        }
+    return c;
+}
+
+Camera view_from(const Vec3<double>& eye, bool ortho = false) {
+    return ortho ? look_at(eye, vec3(0.0, 0.0, 0.0), vec3(0.0, 1.0, 0.0), orthographic(-2.5, 2.5, -2, 2, 0.5, 30), true)
+                 : look_at(eye, vec3(0.0, 0.0, 0.0), vec3(0.0, 1.0, 0.0), perspective(40, 1.25, 0.5, 30));
+}
+
+}  // namespace
+
+TEST_CASE("open and capped cylinders: the CPU reference draws what an independent tracer sees") {
+    const glm::vec3 p0(-0.3f, -1.0f, 0.2f), p1(0.4f, 1.1f, -0.3f);
+    const float r = 0.55f;
+    // Seen obliquely from above p1's end: the inside of an open tube shows through its opening.
+    for (bool ortho : {false, true})
+        for (const auto& [ends, cap0, cap1, name] : {std::tuple{shapes::Ends::both, true, true, "both"}, std::tuple{shapes::Ends::none, false, false, "none"},
+                                                     std::tuple{shapes::Ends::first, true, false, "first"}, std::tuple{shapes::Ends::second, false, true, "second"}}) {
+            const std::vector<Primitive> prims = {shapes::cylinder(p0, p1, r, ends)};
+            const Camera cam = view_from(vec3(1.5, 5.0, 2.5), ortho);
+            const Comparison c = compare_with(prims, cam, 200, 160, [&](const V3& o, const V3& d) { return tube_hit(o, d, ldv(p0), ldv(p1), r, cap0, cap1); });
+            std::printf("[open slabs] cylinder, ends %s, %s: %ld reference px, %ld coverage mismatches (%ld interior), %ld depth > 1e-4\n", name,
+                        ortho ? "orthographic" : "perspective", c.reference, c.mismatch, c.interior_miss, c.depth_bad);
+            CHECK(c.reference > 2000);
+            CHECK(c.interior_miss == 0);
+            CHECK(c.mismatch <= c.reference / 100);
+            CHECK(c.depth_bad <= c.reference / 200);
+        }
+    // Looking down the tube's axis: the open tube shows the background through its hole, a
+    // closed one the disc; each drawing against the other's reference differs a lot (so the
+    // comparison above would catch an ignored `ends`).
+    const Vec3<double> along = cast<double>(quadcast::from_glm(p1)) + 4.0 * normalize(cast<double>(quadcast::from_glm(p1 - p0)));
+    const Camera end_on = look_at(along, vec3(0.0, 0.0, 0.0), vec3(1.0, 0.0, 0.0), perspective(40, 1.25, 0.5, 30));
+    for (shapes::Ends ends : {shapes::Ends::none, shapes::Ends::both}) {
+        const bool open = ends == shapes::Ends::none;
+        const Comparison same = compare_with({shapes::cylinder(p0, p1, r, ends)}, end_on, 200, 160,
+                                             [&](const V3& o, const V3& d) { return tube_hit(o, d, ldv(p0), ldv(p1), r, !open, !open); });
+        const Comparison other = compare_with({shapes::cylinder(p0, p1, r, ends)}, end_on, 200, 160,
+                                              [&](const V3& o, const V3& d) { return tube_hit(o, d, ldv(p0), ldv(p1), r, open, open); });
+        std::printf("[open slabs] end-on, ends %s: %ld reference px, %ld mismatches, %ld depth > 1e-4; against the other kind's reference %ld mismatches, %ld depth > 1e-4\n",
+                    open ? "none" : "both", same.reference, same.mismatch, same.depth_bad, other.mismatch, other.depth_bad);
+        CHECK(same.interior_miss == 0);
+        CHECK(same.mismatch <= same.reference / 100);
+        CHECK(same.depth_bad <= same.reference / 200);
+        CHECK(other.mismatch + other.depth_bad > same.reference / 4);
+    }
+}
+
+TEST_CASE("open and capped cones: the CPU reference draws what an independent tracer sees") {
+    const glm::vec3 apex(0.2f, 1.2f, 0.1f), base(-0.2f, -0.9f, -0.1f);
+    const float r = 0.8f;
+    for (bool cap : {true, false})
+        for (const Vec3<double>& eye : {vec3(1.0, -5.0, 2.0), vec3(2.0, 4.0, 3.0)}) {
+            const std::vector<Primitive> prims = {shapes::cone(apex, base, r, cap)};
+            const Camera cam = view_from(eye);
+            const Comparison c = compare_with(prims, cam, 200, 160, [&](const V3& o, const V3& d) { return cone_hit(o, d, ldv(apex), ldv(base), r, cap); });
+            std::printf("[open slabs] cone, cap %s, eye (%g, %g, %g): %ld reference px, %ld coverage mismatches (%ld interior), %ld depth > 1e-4\n",
+                        cap ? "on" : "off", eye[0], eye[1], eye[2], c.reference, c.mismatch, c.interior_miss, c.depth_bad);
+            CHECK(c.reference > 2000);
+            CHECK(c.interior_miss == 0);
+            CHECK(c.mismatch <= c.reference / 100);
+            CHECK(c.depth_bad <= c.reference / 200);
+        }
+}
+
+TEST_CASE("strongly twisted bilinear quads are drawn whole (independent ray-patch intersection)") {
+    // Opposite corner normals about 140 degrees apart: seen along any corner normal the quad's
+    // outline is not convex.
+    for (float k : {0.3f, 1.0f, 2.0f, 4.0f}) {
+        const std::array<glm::vec3, 4> q = {glm::vec3(-1, -1, k), glm::vec3(1, -1, -k), glm::vec3(1, 1, k), glm::vec3(-1, 1, -k)};
+        const std::array<V3, 4> ql = {ldv(q[0]), ldv(q[1]), ldv(q[2]), ldv(q[3])};
+        const std::vector<Primitive> prims = {shapes::quad(q[0], q[1], q[2], q[3])};
+        for (const Vec3<double>& eye : {vec3(0.3, 0.4, 9.0), vec3(6.0, 2.0, 5.0), vec3(-3.0, 7.0, -4.0)}) {
+            const Camera cam = look_at(eye, vec3(0.0, 0.0, 0.0), vec3(0.0, 1.0, 0.0), perspective(45, 1.25, 0.5, 40));
+            const Comparison c = compare_with(prims, cam, 200, 160, [&](const V3& o, const V3& d) { return patch_hit(o, d, ql); }, false);
+            std::printf("[twisted quad] k %g, eye (%g, %g, %g): %ld reference px, %ld coverage mismatches (%ld interior), %ld depth > 1e-4\n", double(k), eye[0], eye[1],
+                        eye[2], c.reference, c.mismatch, c.interior_miss, c.depth_bad);
+            CHECK(c.reference > 800);
+            CHECK(c.interior_miss == 0);
+            CHECK(c.mismatch <= c.reference / 100);
+            CHECK(c.depth_bad <= c.reference / 200);
+        }
+    }
+    // The clip this replaced, the edges extruded along the largest corner triangle's normal, cuts
+    // real parts off the strongly twisted quads (so the comparison above tells the two apart).
+    const std::array<glm::vec3, 4> q = {glm::vec3(-1, -1, 4), glm::vec3(1, -1, -4), glm::vec3(1, 1, 4), glm::vec3(-1, 1, -4)};
+    const std::array<V3, 4> ql = {ldv(q[0]), ldv(q[1]), ldv(q[2]), ldv(q[3])};
+    Primitive cut = shapes::quad(q[0], q[1], q[2], q[3]);
+    Vec3<double> n = vec3(0.0, 0.0, 0.0);
+    std::array<Vec3<double>, 4> qd{};
+    for (int i = 0; i < 4; ++i) qd[std::size_t(i)] = cast<double>(quadcast::from_glm(q[std::size_t(i)]));
+    for (int i = 0; i < 4; ++i) {
+        const Vec3<double> m = cross(qd[std::size_t((i + 1) % 4)] - qd[std::size_t(i)], qd[std::size_t((i + 3) % 4)] - qd[std::size_t(i)]);
+        if (quadcast::length(m) > quadcast::length(n)) n = m;
+    }
+    const shapes::QuadClip old = shapes::detail::extruded_edges(qd, cast<double>(cut.shape.center), normalize(n), double(cut.shape.radius));
+    for (int i = 0; i < 4; ++i) cut.shape.planes[i] = cast<float>(old.planes[i]);
+    cut.shape.axis = cast<float>(old.axis);
+    cut.shape.half_length = float(old.half_length);
+    const Camera cam = look_at(vec3(6.0, 2.0, 5.0), vec3(0.0, 0.0, 0.0), vec3(0.0, 1.0, 0.0), perspective(45, 1.25, 0.5, 40));
+    const Comparison c = compare_with({cut}, cam, 200, 160, [&](const V3& o, const V3& d) { return patch_hit(o, d, ql); }, false);
+    std::printf("[twisted quad] extruded-edge clip, k 4: %ld reference px, %ld coverage mismatches (%ld interior)\n", c.reference, c.mismatch, c.interior_miss);
+    CHECK(c.interior_miss > c.reference / 20);
+}
+
+TEST_CASE("a mesh of twisted quads sharing edges has no pinholes") {
+    // A 6 x 6 grid over z = 0.8 sin(2x) cos(3y) with every vertex pushed up or down alternately:
+    // neighbouring patches twist in opposite senses, and every interior edge is shared.
+    const int n = 6;
+    auto vertex = [&](int i, int j) {
+        const float x = -1.5f + 3.0f * i / n, y = -1.5f + 3.0f * j / n;
+        return glm::vec3(x, y, 0.8f * std::sin(2 * x) * std::cos(3 * y) + ((i + j) % 2 ? 0.25f : -0.25f));
+    };
+    std::vector<Primitive> prims;
+    std::vector<std::array<V3, 4>> quads;
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            const std::array<glm::vec3, 4> q = {vertex(i, j), vertex(i + 1, j), vertex(i + 1, j + 1), vertex(i, j + 1)};
+            prims.push_back(shapes::quad(q[0], q[1], q[2], q[3]));
+            quads.push_back({ldv(q[0]), ldv(q[1]), ldv(q[2]), ldv(q[3])});
+        }
+    for (const Vec3<double>& eye : {vec3(0.2, -1.0, 6.0), vec3(4.0, -3.0, 3.0), vec3(-2.0, 4.0, 1.5)}) {
+        const Camera cam = look_at(eye, vec3(0.0, 0.0, 0.0), vec3(0.0, 0.0, 1.0), perspective(50, 1.25, 0.3, 40));
+        const Comparison c = compare_with(prims, cam, 240, 192, [&](const V3& o, const V3& d) {
+            LD best = -1;
+            for (const auto& q : quads) {
+                const LD t = patch_hit(o, d, q);
+                if (t > 0 && (best < 0 || t < best)) best = t;
+            }
+            return best;
+        }, false);
+        std::printf("[quad mesh] eye (%g, %g, %g): %ld reference px, %ld coverage mismatches (%ld interior), %ld depth > 1e-4\n", eye[0], eye[1], eye[2],
+                    c.reference, c.mismatch, c.interior_miss, c.depth_bad);
+        CHECK(c.reference > 5000);
+        CHECK(c.interior_miss == 0);
+        CHECK(c.mismatch <= c.reference / 100);
+    }
+}
+
+TEST_CASE("specular and shininess of each primitive reach the picture") {
+    Light light;
+    light.direction = vec3(-0.3f, -0.4f, -1.0f);
+    RenderOptions o;
+    o.width = 160;
+    o.height = 120;
+    const Camera cam = look_at(vec3(0.0, 0.0, 6.0), vec3(0.0, 0.0, 0.0), vec3(0.0, 1.0, 0.0), perspective(40, 160.0 / 120, 1, 20));
+    shapes::Appearance matte{{0.5f, 0.3f, 0.2f}, 0.0f, 2.0f}, shiny{{0.5f, 0.3f, 0.2f}, 1.0f, 200.0f};
+    const Image a = render_cpu({shapes::sphere({0, 0, 0}, 1.0f, matte)}, cam, light, o);
+    const Image b = render_cpu({shapes::sphere({0, 0, 0}, 1.0f, shiny)}, cam, light, o);
+    int brightest_a = 0, brightest_b = 0;
+    long differ = 0;
+    for (std::size_t i = 0; i < a.depth.size(); ++i) {
+        if (a.depth[i] >= 1.0f) continue;
+        brightest_a = std::max(brightest_a, int(a.rgba[i * 4]));
+        brightest_b = std::max(brightest_b, int(b.rgba[i * 4]));
+        differ += a.rgba[i * 4] != b.rgba[i * 4];
+    }
+    std::printf("[materials] matte sphere brightest red %d, shiny %d, %ld pixels differ\n", brightest_a, brightest_b, differ);
+    // Without a highlight the red channel stays at colour * (ambient + diffuse) = 0.5 * 1.0.
+    CHECK(brightest_a <= 128);
+    CHECK(brightest_b == 255);
+    CHECK(differ > 100);
+}
+
+TEST_CASE("shapes validate their input and name the field") {
+    auto message = [](auto&& fn) -> std::string {
+        try {
+            fn();
+        } catch (const std::invalid_argument& e) {
+            return e.what();
+        }
+        return "";
+    };
+    CHECK(message([] { shapes::sphere({0, 0, 0}, -1.0f); }).find("sphere: radius must be positive") != std::string::npos);
+    CHECK(message([] { shapes::sphere({0, 0, 0}, std::nanf("")); }).find("radius") != std::string::npos);
+    CHECK(message([] { shapes::sphere({0, std::nanf(""), 0}, 1.0f); }).find("center must be finite") != std::string::npos);
+    CHECK(message([] { shapes::cylinder({0, 0, 0}, {0, 0, 0}, 1.0f); }).find("p0 and p1 coincide") != std::string::npos);
+    CHECK(message([] { shapes::cone({0, 0, 0}, {0, 0, 1}, 0.0f); }).find("cone: radius") != std::string::npos);
+    CHECK(message([] { shapes::quad({0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {3, 0, 0}); }).find("collinear") != std::string::npos);
+    CHECK(message([] { shapes::ellipsoid({0, 0, 0}, glm::mat3(glm::vec3(1, 0, 0), glm::vec3(2, 0, 0), glm::vec3(0, 0, 1))); }).find("linearly dependent") != std::string::npos);
+    CHECK(message([] { shapes::tensor_ellipsoid({0, 0, 0}, glm::mat3(glm::vec3(1, 0, 0), glm::vec3(0, -1, 0), glm::vec3(0, 0, 1))); }).find("positive definite") != std::string::npos);
+    CHECK(message([] { shapes::tensor_ellipsoid({0, 0, 0}, glm::mat3(glm::vec3(1, 2, 0), glm::vec3(0, 1, 0), glm::vec3(0, 0, 1))); }).find("not symmetric") != std::string::npos);
+    CHECK(message([] { shapes::sphere({0, 0, 0}, 1.0f, {{1.5f, 0, 0}}); }).find("color") != std::string::npos);
+    CHECK(message([] { shapes::sphere({0, 0, 0}, 1.0f, {{1, 1, 1}, 2.0f}); }).find("specular") != std::string::npos);
+    CHECK(message([] { shapes::quadric(glm::mat4(0.0f), shapes::SphereBound{{0, 0, 0}, 1.0f}); }).find("zero") != std::string::npos);
+    CHECK(message([] { shapes::quadric(glm::mat4(1.0f), shapes::TetrahedronBound{{glm::vec3(0, 0, 0), glm::vec3(1, 0, 0), glm::vec3(0, 1, 0), glm::vec3(1, 1, 0)}}); })
+              .find("flat") != std::string::npos);
+    CHECK(message([] { shapes::camera(glm::mat4(2.0f), glm::mat4(1.0f)); }).find("not rigid") != std::string::npos);
+}
+
+TEST_CASE("tensor glyphs: semi-axes are the eigenvectors scaled by the eigenvalues") {
+    // A tensor with eigenvalues 3, 2, 0.5 along a rotated frame.
+    const glm::vec3 e0 = glm::normalize(glm::vec3(1, 1, 0)), e1 = glm::normalize(glm::vec3(-1, 1, 0)), e2(0, 0, 1);
+    glm::mat3 t(0.0f);
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) t[j][i] = 3.0f * e0[i] * e0[j] + 2.0f * e1[i] * e1[j] + 0.5f * e2[i] * e2[j];
+    const shapes::TensorAxes ax = shapes::tensor_axes(t);
+    CHECK(ax.eigenvalues[0] == doctest::Approx(3.0f).epsilon(1e-5));
+    CHECK(ax.eigenvalues[1] == doctest::Approx(2.0f).epsilon(1e-5));
+    CHECK(ax.eigenvalues[2] == doctest::Approx(0.5f).epsilon(1e-5));
+    CHECK(std::fabs(glm::dot(ax.eigenvectors[0], e0)) == doctest::Approx(1.0f).epsilon(1e-5));
+    const glm::vec3 c = shapes::principal_direction_color(t);
+    CHECK(c[0] == doctest::Approx(std::sqrt(0.5f)).epsilon(1e-4));
+    CHECK(c[2] == doctest::Approx(0.0f).epsilon(1e-4));
+    const Primitive p = shapes::tensor_ellipsoid({1, 2, 3}, t, 0.5f);
+    CHECK(p.shape.radius == doctest::Approx(1.5f).epsilon(1e-5));
+    // The point centre + 1.5 e0 lies on the surface (f = 0, local coordinates).
+    const Vec3<float> x = vec3(1.5f * e0[0], 1.5f * e0[1], 1.5f * e0[2]);
+    CHECK(std::fabs(quadcast::evaluate(p.shape.q, x)) < 1e-5f);
+}
+
+TEST_CASE("hand-made primitives are validated by the renderers") {
+    Light light;
+    RenderOptions o;
+    o.width = 64;
+    o.height = 48;
+    const Camera cam = look_at(vec3(0.0, 0.0, 6.0), vec3(0.0, 0.0, 0.0), vec3(0.0, 1.0, 0.0), perspective(40, 64.0 / 48, 1, 20));
+    auto message = [&](const Primitive& p) -> std::string {
+        try {
+            render_cpu({sphere(vec3(2.0f, 0.0f, 0.0f), 0.5f), p}, cam, light, o);
+        } catch (const std::invalid_argument& e) {
+            return e.what();
+        }
+        return "";
+    };
+    Primitive small = ellipsoid(vec3(0.0f, 0.0f, 0.0f), std::array<Vec3<double>, 3>{vec3(1.0, 0.0, 0.0), vec3(0.0, 1.0, 0.0), vec3(0.0, 0.0, 1.0)}.data(), vec3(2.0, 1.0, 1.0));
+    small.shape.radius = 1.5f;  // the ellipsoid reaches 2
+    CHECK(message(small).find("primitive 1: the bounding radius 1.5 is smaller than the ellipsoid's extent 2") != std::string::npos);
+    Primitive nan_radius = sphere(vec3(0.0f, 0.0f, 0.0f), 1.0f);
+    nan_radius.shape.radius = std::nanf("");
+    CHECK(message(nan_radius).find("primitive 1: radius must be positive and finite") != std::string::npos);
+    Primitive stubby = cylinder(vec3(0.0f, 0.0f, 0.0f), vec3(0.0f, 0.0f, 1.0f), 0.5f, 1.0f);
+    stubby.shape.radius = 1.0f;  // needs sqrt(1.25)
+    CHECK(message(stubby).find("smaller than the shape's extent") != std::string::npos);
+    Primitive bad_spec = sphere(vec3(0.0f, 0.0f, 0.0f), 1.0f);
+    bad_spec.material.specular = 3.0f;
+    CHECK(message(bad_spec).find("material.specular") != std::string::npos);
+    // Valid ones pass.
+    CHECK(message(cylinder(vec3(0.0f, 0.0f, 0.0f), vec3(0.0f, 0.0f, 1.0f), 0.5f, 1.0f)).empty());
+    CHECK(message(shapes::cone({0, 0, 0}, {0, 0, 1}, 0.3f, false)).empty());
+}
