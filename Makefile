@@ -7,7 +7,7 @@ DEB_PACKAGES := cmake g++ clang make pkg-config libeigen3-dev libglm-dev glslang
   libgmp-dev libbenchmark-dev libpng-dev nlohmann-json3-dev pymol-data zlib1g-dev
 DEMO_PACKAGES :=
 
-.PHONY: all deps demo-deps configure build test demo regenerate clean data
+.PHONY: all deps demo-deps configure build test demo regenerate clean data install
 
 all: build
 
@@ -40,12 +40,12 @@ DEMO_SCENES := 1tii_balls_and_sticks 1tii_space_filling il2_balls_and_sticks il2
 
 demo: build demo-deps data
 	@mkdir -p demo-out
-	$(BUILD)/examples/quadcast verify
-	$(BUILD)/examples/quadcast bench stability
+	$(BUILD)/tools/quadcast verify
+	$(BUILD)/tools/quadcast bench stability
 	@for s in $(DEMO_SCENES); do \
-	  $(BUILD)/examples/quadcast render examples/demo/$$s.json -o demo-out/$$s.png --width 1024 --height 768 --frames 3 || exit 1; \
+	  $(BUILD)/tools/quadcast render examples/demo/$$s.json -o demo-out/$$s.png --width 1024 --height 768 --frames 3 || exit 1; \
 	done
-	$(BUILD)/examples/quadcast bench isosurfaces --volume $(DATA_DIR)/skull_2.9.inr --frames 3 --cpu-frames 1
+	$(BUILD)/tools/quadcast bench isosurfaces --volume $(DATA_DIR)/skull_2.9.inr --frames 3 --cpu-frames 1
 	@echo "PNGs in demo-out/"
 
 # CGAL's sample volumes and meshes (skull_2.9.inr, liver.inr.gz, armadillo.off, bunny00.off) from
@@ -53,7 +53,12 @@ demo: build demo-deps data
 # build/data/).
 DATA_DIR ?= build/data
 data:
-	examples/volume/fetch_cgal_data.sh $(DATA_DIR)
+	tools/fetch_cgal_data.sh $(DATA_DIR)
+
+# Installs the headers, the component libraries, the CMake package and the programs into PREFIX.
+PREFIX ?= /usr/local
+install: build
+	cmake --install $(BUILD) --prefix $(PREFIX)
 
 regenerate: build
 	$(BUILD)/codegen/quadcast-codegen --out generated

@@ -4,8 +4,8 @@
 #include <string>
 
 #include "quadcast/render/cpu_renderer.hpp"
-#include "scene_json.hpp"
-#include "scene_render.hpp"
+#include "quadcast/scene/scene_json.hpp"
+#include "quadcast/scene/scene_render.hpp"
 
 using namespace quadcast;
 

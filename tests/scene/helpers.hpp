@@ -11,7 +11,7 @@
 #include <string>
 #include <unistd.h>
 
-#include "diagnostics.hpp"
+#include "quadcast/scene/diagnostics.hpp"
 
 namespace scene_test {
 

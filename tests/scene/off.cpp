@@ -6,7 +6,7 @@
 #include <sstream>
 
 #include "helpers.hpp"
-#include "off.hpp"
+#include "quadcast/scene/off.hpp"
 
 using namespace quadcast::scene;
 using namespace scene_test;

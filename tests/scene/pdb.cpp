@@ -9,7 +9,7 @@
 #include <sstream>
 
 #include "helpers.hpp"
-#include "pdb.hpp"
+#include "quadcast/scene/pdb.hpp"
 
 using namespace quadcast::scene;
 using namespace scene_test;

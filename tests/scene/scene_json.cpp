@@ -7,7 +7,7 @@
 #include <random>
 
 #include "helpers.hpp"
-#include "scene_json.hpp"
+#include "quadcast/scene/scene_json.hpp"
 
 using namespace quadcast::scene;
 using namespace scene_test;

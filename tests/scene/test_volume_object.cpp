@@ -2,7 +2,7 @@
 #include <doctest/doctest.h>
 
 #include "helpers.hpp"
-#include "scene_json.hpp"
+#include "quadcast/scene/scene_json.hpp"
 
 using namespace quadcast::scene;
 using namespace scene_test;

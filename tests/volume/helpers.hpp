@@ -6,7 +6,7 @@
 #include <string>
 #include <unistd.h>
 
-#include "volume.hpp"
+#include "quadcast/volume/volume.hpp"
 
 namespace vtest {
 

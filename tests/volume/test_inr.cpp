@@ -10,7 +10,7 @@
 #include <random>
 #include <string>
 
-#include "formats.hpp"
+#include "quadcast/volume/formats.hpp"
 #include "helpers.hpp"
 
 using namespace quadcast::volume;

@@ -5,9 +5,9 @@
 #include <fstream>
 #include <string>
 
-#include "formats.hpp"
+#include "quadcast/volume/formats.hpp"
 #include "helpers.hpp"
-#include "load.hpp"
+#include "quadcast/volume/load.hpp"
 
 using namespace quadcast::volume;
 

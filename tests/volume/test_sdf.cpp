@@ -8,7 +8,7 @@
 #include <random>
 
 #include "helpers.hpp"
-#include "sdf.hpp"
+#include "quadcast/volume/sdf.hpp"
 
 using namespace quadcast::volume;
 

@@ -8,7 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "quadcast/spline/spline.hpp"
-#include "spline_stencil.hpp"
+#include "quadcast/volume/spline_stencil.hpp"
 
 using namespace quadcast;
 using namespace quadcast::volume;

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "synthetic.hpp"
+#include "quadcast/volume/synthetic.hpp"
 
 using namespace quadcast::volume;
 

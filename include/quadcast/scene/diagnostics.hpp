@@ -1,0 +1,56 @@
+// quadcast/scene/diagnostics.hpp -- errors and warnings that name the file, line and field
+#pragma once
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace quadcast::scene {
+
+/// Where something was found: `file:line:column: field`. `line`/`column` are 1-based, 0 = unknown.
+/// `field` is a PDB/OFF field name ("x (columns 31-38)", "face 3 vertex 2") or a JSON pointer
+/// ("/objects/3/sphere/radius").
+struct Location {
+    std::string file;
+    int line = 0;
+    int column = 0;
+    std::string field;
+};
+
+/// "file:line:column: field: " (parts that are unknown are left out).
+std::string format_location(const Location& where);
+
+/// A problem that makes the input unusable. `what()` is the full message
+/// `file:line[:column]: field: message`; the parts are kept for programs and tests.
+class ParseError : public std::runtime_error {
+public:
+    ParseError(Location where, const std::string& message);
+    const Location& where() const noexcept { return where_; }
+    const std::string& file() const noexcept { return where_.file; }
+    int line() const noexcept { return where_.line; }
+    int column() const noexcept { return where_.column; }
+    const std::string& field() const noexcept { return where_.field; }
+    /// The message without the location prefix.
+    const std::string& message() const noexcept { return message_; }
+
+private:
+    Location where_;
+    std::string message_;
+};
+
+/// A problem handled in a documented way (a record skipped, a default used). Readers collect
+/// them; the command prints them to stderr with `to_string()`.
+struct Warning {
+    Location where;
+    std::string message;
+    /// "file:line[:column]: warning: field: message".
+    std::string to_string() const {
+        Location file_only = where;
+        file_only.field.clear();
+        return format_location(file_only) + "warning: " + (where.field.empty() ? "" : where.field + ": ") + message;
+    }
+};
+
+using Warnings = std::vector<Warning>;
+
+}  // namespace quadcast::scene

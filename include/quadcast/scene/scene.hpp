@@ -1,0 +1,229 @@
+// quadcast/scene/scene.hpp -- the scene the `quadcast render` command draws (host-only, double)
+#pragma once
+
+// Plain data: the JSON loader (scene_json.hpp), the PDB reader (pdb.hpp) and the OFF reader
+// (off.hpp) fill it; the renderers read it. Everything is in double precision and in world
+// units (Angstrom for molecules). Nothing here is traced to GLSL.
+
+#include <array>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "quadcast/scene/diagnostics.hpp"
+#include "quadcast/linalg.hpp"
+
+namespace quadcast::scene {
+
+using Vec3d = quadcast::Vec<double, 3>;
+using Mat4d = quadcast::Mat<double, 4, 4>;
+
+/// Surface appearance. `color` is linear RGB in [0,1]; `specular` in [0,1] scales the
+/// highlight; `shininess` > 0 is the Phong exponent.
+struct Material {
+    Vec3d color{{0.8, 0.8, 0.8}};
+    double specular = 0.35;
+    double shininess = 48.0;
+};
+
+enum class Projection { perspective, orthographic };
+
+/// A look-at camera. Perspective cameras use `fov_y_deg` (full vertical angle, degrees),
+/// orthographic ones `height` (full vertical extent of the view volume, world units).
+struct Camera {
+    Projection projection = Projection::perspective;
+    Vec3d eye{{0.0, 0.0, 5.0}};
+    Vec3d target{{0.0, 0.0, 0.0}};
+    Vec3d up{{0.0, 1.0, 0.0}};
+    double fov_y_deg = 45.0;
+    double height = 2.0;
+    double near = 0.1;
+    double far = 100.0;
+
+    /// The first problem found, as {field, message} with field one of "eye", "target", "up",
+    /// "fov_y", "height", "near", "far"; empty field = valid. Valid means: every number finite,
+    /// eye != target, up not parallel to the view direction (angle > ~0.06 degrees), 0 < near <
+    /// far, and 0 < fov_y_deg < 180 (perspective) or height > 0 (orthographic).
+    struct Problem {
+        std::string field, message;
+    };
+    Problem check() const;
+    /// Throws std::invalid_argument("camera field: message") when check() finds a problem.
+    void validate() const;
+};
+
+/// A directional light shines along `direction` (from the light towards the scene); a point
+/// light sits at `position`. `color` in [0,1], `intensity` >= 0.
+struct Light {
+    enum class Kind { directional, point };
+    Kind kind = Kind::directional;
+    Vec3d direction{{-1.0, -1.0, -1.0}};
+    Vec3d position{{0.0, 0.0, 0.0}};
+    Vec3d color{{1.0, 1.0, 1.0}};
+    double intensity = 1.0;
+};
+
+struct Sphere {
+    Vec3d center;
+    double radius;
+    Material material;
+};
+
+/// Ellipsoid {center + a*x + b*y + c*z : x^2 + y^2 + z^2 <= 1}; `axes` are the three mutually
+/// orthogonal semi-axis vectors (their lengths are the radii).
+struct Ellipsoid {
+    Vec3d center;
+    std::array<Vec3d, 3> axes;
+    Material material;
+};
+
+/// Circular cylinder around the segment p0-p1; `caps` closes both ends with discs.
+struct Cylinder {
+    Vec3d p0, p1;
+    double radius;
+    bool caps = true;
+    Material material;
+};
+
+/// Circular cone from `apex` to the disc of `radius` centred at `base` (perpendicular to the
+/// axis); `cap` closes the base with a disc.
+struct Cone {
+    Vec3d apex, base;
+    double radius;
+    bool cap = true;
+    Material material;
+};
+
+/// Bounding volume a general quadric is clipped to.
+struct BoundingSphere {
+    Vec3d center;
+    double radius;
+};
+struct BoundingTetrahedron {
+    std::array<Vec3d, 4> p;
+};
+
+/// General quadric x~^T Q x~ = 0 with the symmetric homogeneous 4x4 matrix Q
+/// (Stoll et al. 2006, eq. 4: Q = [A b; b^T c], x~ = (x, y, z, 1)), clipped to a bounding
+/// sphere or tetrahedron. Column-major like every Mat: `q[col][row]`; the same layout as
+/// `quadcast::Quadric<double>::q` (quadcast/quadric.hpp).
+struct Quadric {
+    enum class Bound { sphere, tetrahedron };
+    Mat4d q;
+    Bound bound = Bound::sphere;
+    BoundingSphere sphere{};            ///< used when bound == sphere
+    BoundingTetrahedron tetrahedron{};  ///< used when bound == tetrahedron
+    Material material;
+};
+
+/// Bilinear patch P(u,v) = (1-u)(1-v) p[0] + u(1-v) p[1] + uv p[2] + (1-u)v p[3], u,v in [0,1]:
+/// the corners go around the perimeter (Stoll et al. 2006, sec. 4.5, p1..p4). A triangle
+/// (a, b, c) may appear as the degenerate quad (a, b, c, c), which is exactly the flat triangle.
+struct BilinearQuad {
+    std::array<Vec3d, 4> p;
+    Material material;
+};
+
+/// The 10 coefficients k of Stoll et al. 2006, eq. 1, in the order
+/// k000, k100, k010, k001, k110, k011, k101, k200, k020, k002 (quadcast::Coefficients10), as
+/// the matrix of eq. 3/4 (by quadcast::quadric_from_coefficients).
+Mat4d quadric_matrix_from_coefficients(const std::array<double, 10>& k);
+
+/// Rendering switches (see the paper references in the README): per-quadric back-face
+/// culling, deferred shading, shadows, silhouette edges; background colour in [0,1].
+struct Options {
+    bool culling = true;
+    bool deferred = false;
+    bool shadows = false;
+    bool silhouettes = false;
+    /// "outline": {"depth": relative depth-gradient threshold, "crease": normal-gradient
+    /// threshold, "strength": in [0, 1]} (quadcast::silhouette_weight); absent: the renderer's
+    /// defaults.
+    std::optional<double> outline_depth, outline_crease, outline_strength;
+    /// "shadow": {"map_size": texels per side, "pcf_step": texels between PCF samples, "bias":
+    /// in shadow-map texels}; absent: the renderer's defaults.
+    std::optional<int> shadow_map_size, pcf_step;
+    std::optional<double> shadow_bias;
+    Vec3d background{{1.0, 1.0, 1.0}};
+    /// Environment reflection ("environment": {"file" | "procedural", "reflectivity"}): a
+    /// latitude-longitude PNG (resolved path) or the built-in sky (colours, defaults of
+    /// quadcast::render::ProceduralSky when absent), mixed in by `reflectivity`.
+    enum class Environment { none, file, procedural };
+    Environment environment = Environment::none;
+    std::filesystem::path environment_file;
+    std::optional<Vec3d> sky_zenith, sky_horizon, sky_ground;
+    double reflectivity = 0.3;
+};
+
+/// Axis-aligned box; empty while lo > hi.
+struct Aabb {
+    Vec3d lo{{1e300, 1e300, 1e300}};
+    Vec3d hi{{-1e300, -1e300, -1e300}};
+    bool empty() const { return lo[0] > hi[0] || lo[1] > hi[1] || lo[2] > hi[2]; }
+    void extend(const Vec3d& p);
+    /// Extends by the box [c - h, c + h].
+    void extend(const Vec3d& c, const Vec3d& half_extent);
+    void extend(const Aabb& b);
+    Vec3d center() const;
+    /// Half the length of the diagonal (radius of a sphere around the box).
+    double radius() const;
+};
+
+/// Tight boxes of each primitive (the clip region for quadrics).
+Aabb bounds(const Sphere& s);
+Aabb bounds(const Ellipsoid& e);
+Aabb bounds(const Cylinder& c);
+Aabb bounds(const Cone& c);
+Aabb bounds(const Quadric& q);
+Aabb bounds(const BilinearQuad& q);
+
+/// An isosurface of a volume (the "volume" object kind). The scene records only what to load;
+/// the volume component (quadcast::volume, `quadcast::volume::load_volume`) reads the samples and
+/// the CPU spline renderer draws them. `box` is the world box of the samples: known for the
+/// synthetic volumes, for files filled by the installed `volume_box_function` (empty if none).
+struct Volume {
+    enum class Scheme { qss, s31, trilinear };
+    std::string input;       ///< resolved file path, or the synthetic name "marschner-lobb" / "franke"
+    bool synthetic = false;
+    int size = 0;            ///< synthetic: samples per axis (0 = the generator's default)
+    double iso = 0.0;
+    Scheme scheme = Scheme::qss;
+    Material material;
+    Aabb box;
+};
+
+/// Computes the world box of a file volume (installed by programs that link the volume library;
+/// may throw, the loader reports the message at the "volume" value).
+using VolumeBoxFunction = Aabb (*)(const Volume&);
+void set_volume_box_function(VolumeBoxFunction f);
+VolumeBoxFunction volume_box_function();
+
+/// Everything the renderer draws: one vector per primitive kind.
+struct Scene {
+    std::filesystem::path source;  ///< the scene file ("" when built in code)
+    Camera camera;
+    std::vector<Light> lights;
+    Options options;
+
+    std::vector<Sphere> spheres;
+    std::vector<Ellipsoid> ellipsoids;
+    std::vector<Cylinder> cylinders;
+    std::vector<Cone> cones;
+    std::vector<Quadric> quadrics;
+    std::vector<BilinearQuad> quads;
+    std::vector<Volume> volumes;  ///< isosurfaces, drawn by the CPU spline renderer
+
+    /// Problems that were handled in a documented way while loading (print them).
+    Warnings warnings;
+
+    /// Box around every primitive and volume; empty when there are none.
+    Aabb bounds() const;
+    std::size_t primitive_count() const;
+};
+
+/// A perspective camera (fov_y 45 degrees) looking at the centre of `box` along -z from far
+/// enough that the box's bounding sphere fits the view, with near/far around that sphere.
+Camera fit_camera(const Aabb& box, double fov_y_deg = 45.0);
+
+}  // namespace quadcast::scene

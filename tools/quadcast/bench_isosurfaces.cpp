@@ -1,0 +1,185 @@
+// tools/quadcast/bench_isosurfaces.cpp -- `quadcast bench isosurfaces`: GL frame time of QSS, S31 and
+// trilinear isosurfaces against the CPU reference, and what the octree and frustum culling skip
+//
+// One volume (CGAL's skull by default, Marschner-Lobb when the file is missing), one run: per
+// scheme the preparation time, the GL median frame time (1024x768, forward shading) and the CPU
+// reference's on the same camera, and their ratio (Kalbe & Zeilfelder 2008 report the GPU 10-100x
+// faster than their CPU ray caster). Then, for a view of the whole volume and a close-up, how
+// many cubes the min-max octree (coefficient ranges vs ρ), the frustum test and the per-
+// tetrahedron range test leave, and the frame time with each switched off (interleaved frames).
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "quadcast/camera.hpp"
+#include "commands.hpp"
+#include "timing.hpp"
+#include "quadcast/image/image_io.hpp"
+#include "quadcast/volume/load.hpp"
+#include "quadcast/gl/isosurface_renderer.hpp"
+#include "quadcast/gl/osmesa_context.hpp"
+#include "quadcast/gl/quadric_renderer.hpp"
+#include "quadcast/render/spline_cpu_renderer.hpp"
+#include "quadcast/scene/scene_render.hpp"
+
+namespace quadcast::cli {
+
+namespace {
+
+struct IsoBenchOptions {
+    std::string input = "build/data/skull_2.9.inr", png;
+    double iso = 2.9;
+    bool iso_given = false;
+    int frames = 7, cpu_frames = 2, width = 1024, height = 768;
+};
+
+/// A camera looking at the volume's box from direction (1, -0.8, 0.6) at `distance` times the
+/// box's radius (1 = on the bounding sphere), 40° field of view.
+render::Camera view_of(const render::VolumeModel& m, double distance, int w, int h) {
+    Vec3<double> lo{}, hi{};
+    m.world_box(lo, hi);
+    const Vec3<double> c = 0.5 * (lo + hi);
+    const double r = 0.5 * length(hi - lo);
+    const Vec3<double> dir = normalize(Vec3<double>{{1.0, -0.8, 0.6}});
+    const Vec3<double> eye = c + (distance * r) * dir;
+    const double fov = 40.0;
+    const double far = (distance + 1.5) * r, near = std::max(1e-3 * r, (distance - 1.2) * r);
+    return render::Camera{cast<float>(quadcast::look_at(eye, c, Vec3<double>{{0.0, 0.0, 1.0}})),
+                          cast<float>(quadcast::perspective(fov, double(w) / h, near, far)), cast<float>(eye), false};
+}
+
+struct Gl {
+    gl::OsmesaContext ctx;
+    gl::QuadricRenderer quadrics{ctx.api()};
+    gl::IsosurfaceRenderer iso{ctx.api()};
+    Gl() {
+        quadrics.set_primitives({});
+        quadrics.add_pass(iso);
+    }
+    double frame(const render::Camera& cam, const render::Light& light, const render::RenderOptions& o) {
+        const auto t0 = std::chrono::steady_clock::now();
+        quadrics.draw(cam, light, o);
+        return ms_since(t0);
+    }
+};
+
+void run(const IsoBenchOptions& a) {
+    volume::VolumeRequest req;
+    double iso = a.iso;
+    req.input = a.input;
+    if (!std::filesystem::exists(a.input)) {
+        std::printf("%s not found (run `make data`); using Marschner-Lobb 64^3, iso 0.5 instead\n", a.input.c_str());
+        req.input = "marschner-lobb";
+        req.size = 64;
+        if (!a.iso_given) iso = 0.5;
+    }
+    const volume::VolumeData d = volume::load_volume(req);
+    volume::check_isovalue(d, iso);
+    std::printf("%s: %dx%dx%d %s samples, iso %g, %dx%d, GL %d frames (median), CPU reference %d frames, one run\n\n", req.input.c_str(), d.nx(),
+                d.ny(), d.nz(), d.sample_type.c_str(), iso, a.width, a.height, a.frames, a.cpu_frames);
+    Gl gl;
+    render::Light light;
+    light.direction = vec3(-0.4f, 0.7f, -0.6f);
+    render::RenderOptions o;
+    o.width = a.width;
+    o.height = a.height;
+
+    std::printf("%-10s %10s %12s %14s %12s %14s %12s %10s\n", "scheme", "prep ms", "active cubes", "elements", "GL ms", "GL pre-pass", "CPU ms", "CPU/GL");
+    const render::VolumeScheme schemes[3] = {render::VolumeScheme::qss, render::VolumeScheme::s31, render::VolumeScheme::trilinear};
+    std::vector<render::VolumeModel> models;
+    models.reserve(3);
+    for (render::VolumeScheme s : schemes) {
+        const auto t0 = std::chrono::steady_clock::now();
+        models.push_back(render::prepare_volume(d.grid, d.origin, d.spacing, s, float(iso), vec3(0.9f, 0.85f, 0.75f)));
+        const double prep = ms_since(t0);
+        const render::VolumeModel& m = models.back();
+        const render::Camera cam = view_of(m, 2.4, a.width, a.height);
+        gl.iso.clear();
+        gl.iso.add_volume(m);
+        using Stage = gl::IsosurfaceRenderer::CoefficientStage;
+        gl.iso.set_coefficient_stage(Stage::compute);
+        gl.frame(cam, light, o);  // warm-up: compiles the programs
+        gl.iso.set_coefficient_stage(Stage::vertex);
+        gl.frame(cam, light, o);
+        std::vector<double> g, gc, c;
+        for (int i = 0; i < a.frames; ++i) {
+            gl.iso.set_coefficient_stage(Stage::vertex);
+            g.push_back(gl.frame(cam, light, o));
+            if (s == render::VolumeScheme::trilinear) continue;
+            gl.iso.set_coefficient_stage(Stage::compute);
+            gc.push_back(gl.frame(cam, light, o));
+        }
+        gl.iso.set_coefficient_stage(Stage::vertex);
+        for (int i = 0; i < a.cpu_frames; ++i) {
+            const auto t1 = std::chrono::steady_clock::now();
+            const render::Image img = render::render_volumes_cpu({&m}, cam, light, o);
+            c.push_back(ms_since(t1));
+        }
+        if (!a.png.empty()) {
+            const std::string stem = a.png + "_" + render::volume_scheme_name(s);
+            render::write_png(stem + "_gl.png", gl.quadrics.read());
+            render::write_png(stem + "_cpu.png", render::render_volumes_cpu({&m}, cam, light, o));
+        }
+        const gl::IsoDrawStats& st = gl.iso.stats(0);
+        char pre[32] = "-";
+        if (!gc.empty()) std::snprintf(pre, sizeof pre, "%.1f (%.2fx)", median(gc), median(g) / median(gc));
+        std::printf("%-10s %10.0f %12zu %14zu %12.1f %14s %12.1f %9.1fx\n", render::volume_scheme_name(s), prep, m.active, st.elements, median(g), pre,
+                    median(c), median(c) / median(g));
+    }
+
+    std::printf("\nWhat is skipped (QSS; cubes of the whole grid; frame times interleaved, ratios to all culling on):\n");
+    std::printf("%-9s %10s %14s %12s %14s %14s %12s %14s %14s\n", "view", "cubes", "range has rho", "in frustum", "tets drawn", "tets (no test)",
+                "all on ms", "no frustum", "no tet test");
+    const render::VolumeModel& m = models[0];
+    gl.iso.clear();
+    gl.iso.add_volume(m);
+    const std::size_t cubes = static_cast<std::size_t>(m.nx) * m.ny * m.nz;
+    for (double dist : {2.4, 0.8}) {
+        const render::Camera cam = view_of(m, dist, a.width, a.height);
+        std::vector<double> t_on, t_nofr, t_notet;
+        gl::IsoDrawStats on{}, nofr{}, notet{};
+        for (int i = 0; i < a.frames; ++i) {
+            gl.iso.set_frustum_culling(true);
+            gl.iso.set_tetrahedron_culling(true);
+            t_on.push_back(gl.frame(cam, light, o));
+            on = gl.iso.stats(0);
+            gl.iso.set_frustum_culling(false);
+            t_nofr.push_back(gl.frame(cam, light, o));
+            nofr = gl.iso.stats(0);
+            gl.iso.set_frustum_culling(true);
+            gl.iso.set_tetrahedron_culling(false);
+            t_notet.push_back(gl.frame(cam, light, o));
+            notet = gl.iso.stats(0);
+        }
+        gl.iso.set_tetrahedron_culling(true);
+        const double base = median(t_on);
+        std::printf("%-9s %10zu %8zu %4.1f%% %6zu %4.1f%% %14zu %14zu %12.1f %8.1f %4.2fx %8.1f %4.2fx\n", dist > 1 ? "whole" : "close-up", cubes, on.active,
+                    100.0 * double(on.active) / double(cubes), on.visible, 100.0 * double(on.visible) / double(on.active), on.elements, notet.elements,
+                    base, median(t_nofr), median(t_nofr) / base, median(t_notet), median(t_notet) / base);
+        (void)nofr;
+    }
+    std::printf("\n(GL ms: coefficients averaged in the vertex stage; GL pre-pass: in a compute pre-pass, and the speed-up)\n");
+    std::printf("(range has rho: the octree keeps the cubes whose coefficient range contains the isovalue; in frustum: of these, the ones\n"
+                " whose box is not outside the view; tets drawn: relevant tetrahedra of those cubes; no test: all 24 per cube)\n");
+}
+
+}  // namespace
+
+void add_bench_isosurfaces(CLI::App& bench) {
+    auto a = std::make_shared<IsoBenchOptions>();
+    CLI::App* cmd = bench.add_subcommand("isosurfaces", "GL isosurfaces (QSS, S31, trilinear) vs the CPU reference; octree and frustum culling");
+    cmd->add_option("--volume", a->input, "volume file (INR, NRRD, OFF -> signed distance); default CGAL's skull");
+    cmd->add_option("--iso", a->iso, "isovalue (default 2.9 for the skull)")->each([a](const std::string&) { a->iso_given = true; });
+    cmd->add_option("--frames", a->frames, "GL frames per measurement")->check(CLI::Range(1, 1000));
+    cmd->add_option("--cpu-frames", a->cpu_frames, "CPU reference frames per scheme")->check(CLI::Range(1, 100));
+    cmd->add_option("--width", a->width)->check(CLI::Range(16, 8192));
+    cmd->add_option("--height", a->height)->check(CLI::Range(16, 8192));
+    cmd->add_option("--png", a->png, "also write PREFIX_<scheme>_gl.png and _cpu.png");
+    cmd->callback([a] { run(*a); });
+}
+
+}  // namespace quadcast::cli

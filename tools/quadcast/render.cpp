@@ -1,0 +1,201 @@
+// tools/quadcast/render.cpp -- `quadcast render SCENE.json -o out.png`
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "commands.hpp"
+#include "timing.hpp"
+#include "quadcast/scene/diagnostics.hpp"
+#include "quadcast/image/image_io.hpp"
+#include "quadcast/gl/isosurface_renderer.hpp"
+#include "quadcast/gl/osmesa_context.hpp"
+#include "quadcast/gl/quadric_renderer.hpp"
+#include "quadcast/render/cpu_renderer.hpp"
+#include "quadcast/render/spline_cpu_renderer.hpp"
+#include "quadcast/volume/load.hpp"
+#include "quadcast/scene/scene_json.hpp"
+#include "quadcast/scene/scene_render.hpp"
+
+namespace quadcast::cli {
+
+namespace {
+
+struct RenderArgs {
+    std::string scene, output, depth;
+    int width = 1024, height = 768, frames = 0;
+    bool cpu = false;
+};
+
+int write_outputs(const RenderArgs& a, const render::Image& img) {
+    try {
+        render::write_png(a.output, img);
+        if (!a.depth.empty()) render::write_pfm(a.depth, img);
+    } catch (const std::exception& e) {
+        std::cerr << "quadcast render: " << e.what() << "\n";
+        return 1;
+    }
+    return 0;
+}
+
+/// The world box of a volume's samples (loads it; installed as the scene's volume box function).
+scene::Aabb volume_box(const scene::Volume& v) {
+    volume::VolumeRequest req;
+    req.input = v.input;
+    req.size = v.size;
+    const volume::VolumeData d = volume::load_volume(req);
+    scene::Aabb b;
+    b.extend(d.origin);
+    b.extend(d.origin + cmul(d.spacing, scene::Vec3d{{double(d.nx() - 1), double(d.ny() - 1), double(d.nz() - 1)}}));
+    return b;
+}
+
+/// The scene's volumes, loaded and prepared for the GL isosurface renderer or, with `cpu`, the
+/// CPU reference renderer (which also keeps every active tetrahedron's coefficients). Long
+/// preparations report progress on stderr.
+std::vector<render::VolumeModel> prepare_volumes(const scene::Scene& sc, bool cpu) {
+    std::vector<render::VolumeModel> out;
+    for (const scene::Volume& v : sc.volumes) {
+        volume::VolumeRequest req;
+        req.input = v.input;
+        req.size = v.size;
+        const volume::VolumeData d = volume::load_volume(req);
+        for (const auto& w : d.warnings) std::cerr << w << "\n";
+        volume::check_isovalue(d, v.iso);
+        const render::VolumeScheme scheme = v.scheme == scene::Volume::Scheme::s31         ? render::VolumeScheme::s31
+                                            : v.scheme == scene::Volume::Scheme::trilinear ? render::VolumeScheme::trilinear
+                                                                                           : render::VolumeScheme::qss;
+        // Progress in steps of 10% for volumes of more than 4M samples
+        const bool big = double(d.nx()) * d.ny() * d.nz() > 4e6;
+        int shown = 0;
+        const render::ProgressFn progress = [&](double f) {
+            const int step = int(f * 10.0);
+            if (!big || step <= shown) return;
+            shown = step;
+            std::fprintf(stderr, "%s: preparing %s (%dx%dx%d, %s): %d%%\n", sc.source.string().c_str(), v.input.c_str(), d.nx(), d.ny(), d.nz(),
+                         render::volume_scheme_name(scheme), 10 * step);
+        };
+        out.push_back(render::prepare_volume(d.grid, d.origin, d.spacing, scheme, float(v.iso), cast<float>(v.material.color), 0, cpu, progress));
+    }
+    return out;
+}
+
+std::size_t active_cubes(const std::vector<render::VolumeModel>& volumes) {
+    std::size_t n = 0;
+    for (const auto& m : volumes) n += m.active;
+    return n;
+}
+
+/// The CPU reference: primitives (if any), then the volumes composited by depth.
+render::Image render_scene_cpu(const render::Frame& fr, const std::vector<render::VolumeModel>& volumes, render::FrameStats* st) {
+    render::Image img;
+    if (!fr.primitives.empty() || volumes.empty()) img = render::render_cpu(fr.primitives, fr.camera, fr.light, fr.options, st);
+    if (volumes.empty()) return img;
+    std::vector<const render::VolumeModel*> ptrs;
+    for (const auto& m : volumes) ptrs.push_back(&m);
+    render::Image v = render::render_volumes_cpu(ptrs, fr.camera, fr.light, fr.options);
+    if (img.rgba.empty()) return v;
+    render::composite_by_depth(img, v);
+    return img;
+}
+
+int run_render(const RenderArgs& a) {
+    scene::Scene sc;
+    scene::set_volume_box_function(volume_box);
+    try {
+        sc = scene::load_scene(a.scene);
+    } catch (const scene::ParseError& e) {
+        std::cerr << e.what() << "\n";
+        return 1;
+    }
+    for (const auto& w : sc.warnings) std::cerr << w.to_string() << "\n";
+    render::Frame fr = render::build_frame(sc, a.width, a.height);
+    for (const auto& n : fr.notes) std::cerr << a.scene << ": note: " << n << "\n";
+    std::vector<render::VolumeModel> volumes;
+    try {
+        const auto t0 = std::chrono::steady_clock::now();
+        volumes = prepare_volumes(sc, a.cpu);
+        if (!volumes.empty())
+            std::fprintf(stderr, "%s: %zu volume(s) prepared in %.1f ms, %zu active cubes\n", a.scene.c_str(), volumes.size(),
+                         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count(), active_cubes(volumes));
+    } catch (const std::exception& e) {
+        std::cerr << "quadcast render: " << e.what() << "\n";
+        return 1;
+    }
+    render::Image img;
+    if (a.cpu) {
+        render::FrameStats st;
+        img = render_scene_cpu(fr, volumes, &st);
+        if (a.frames > 0) {
+            std::vector<double> ms;
+            for (int i = 0; i < a.frames; ++i) {
+                const auto t0 = std::chrono::steady_clock::now();
+                img = render_scene_cpu(fr, volumes, nullptr);
+                ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+            }
+            std::printf("%s: %zu primitives, %zu volume(s) (%zu active cubes), %dx%d, median frame %.2f ms over %d frames (CPU reference), %llu casts, %llu culled\n",
+                        a.scene.c_str(), fr.primitives.size(), volumes.size(), active_cubes(volumes), a.width, a.height, median(ms), a.frames,
+                        static_cast<unsigned long long>(st.fragments), static_cast<unsigned long long>(st.culled));
+        }
+        return write_outputs(a, img);
+    }
+    std::unique_ptr<gl::OsmesaContext> ctx;
+    try {
+        ctx = std::make_unique<gl::OsmesaContext>();
+    } catch (const std::exception& e) {
+        std::cerr << "quadcast render: " << e.what() << " (use --cpu to render without OpenGL)\n";
+        return 2;
+    }
+    try {
+        gl::QuadricRenderer r(ctx->api());
+        gl::IsosurfaceRenderer iso(ctx->api());
+        r.set_primitives(fr.primitives);
+        for (const auto& m : volumes) iso.add_volume(m);
+        if (!volumes.empty()) r.add_pass(iso);
+        r.draw(fr.camera, fr.light, fr.options);  // warm-up: compiles the variants the scene uses
+        if (a.frames > 0) {
+            std::vector<double> ms;
+            for (int i = 0; i < a.frames; ++i) {
+                const auto t0 = std::chrono::steady_clock::now();
+                r.draw(fr.camera, fr.light, fr.options);
+                ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+            }
+            std::printf("%s: %zu primitives, %dx%d, median frame %.2f ms over %d frames (%s)\n", a.scene.c_str(), fr.primitives.size(), a.width,
+                        a.height, median(ms), a.frames, ctx->info().renderer.c_str());
+            for (std::size_t i = 0; i < iso.volume_count(); ++i) {
+                const gl::IsoDrawStats& s = iso.stats(i);
+                std::printf("%s: volume %zu (%s): %zu active cubes, %zu in the view frustum, %zu of %zu %s drawn\n", a.scene.c_str(), i,
+                            render::volume_scheme_name(volumes[i].scheme), s.active, s.visible, s.elements, s.relevant,
+                            volumes[i].scheme == render::VolumeScheme::trilinear ? "cells" : "relevant tetrahedra");
+            }
+        }
+        img = r.read();
+    } catch (const std::exception& e) {
+        std::cerr << "quadcast render: " << e.what() << "\n";
+        return 1;
+    }
+    return write_outputs(a, img);
+}
+
+}  // namespace
+
+void add_render(CLI::App& app) {
+    auto a = std::make_shared<RenderArgs>();
+    CLI::App* cmd = app.add_subcommand("render", "render a JSON scene to a PNG");
+    cmd->add_option("scene", a->scene, "scene file (JSON)")->required();
+    cmd->add_option("-o,--output", a->output, "output PNG")->required();
+    cmd->add_option("--width", a->width, "image width")->check(CLI::Range(1, 16384));
+    cmd->add_option("--height", a->height, "image height")->check(CLI::Range(1, 16384));
+    cmd->add_flag("--cpu", a->cpu, "render with the CPU reference renderer");
+    cmd->add_option("--depth", a->depth, "also write window depth as PFM (1.0 = background)");
+    cmd->add_option("--frames", a->frames, "time this many frames after a warm-up; print the median")->check(CLI::Range(0, 100000));
+    cmd->callback([a] {
+        const int rc = run_render(*a);
+        if (rc) throw CLI::RuntimeError(rc);
+    });
+}
+
+}  // namespace quadcast::cli
