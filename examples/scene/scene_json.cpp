@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
@@ -19,6 +20,13 @@ namespace quadcast::scene {
 namespace {
 
 const std::vector<std::string_view> kCommonKeys = {"color", "material", "comment"};
+
+/// A number for a message: "%g" (1e-200, not std::to_string's 0.000000).
+std::string shortest(double x) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%g", x);
+    return buf;
+}
 
 /// The errors found so far, each with its position in the scene file (the position of the entry
 /// that loaded another file, for errors inside that file), for sorting into file order.
@@ -119,7 +127,7 @@ void load_ellipsoid(ObjectContext& ctx) {
         double big = 0.0;
         for (int k = 0; k < 3; ++k) big = std::max(big, std::abs(e.axes[i][k]));
         if (!(big >= 1e-150 && big <= 1e150))
-            where.fail("semi-axis " + std::to_string(i) + " has length " + std::to_string(big) +
+            where.fail("semi-axis " + std::to_string(i) + " has length " + shortest(big) +
                        ", outside [1e-150, 1e150] (the ellipsoid's matrix would under- or overflow a double)");
     }
     ctx.scene.ellipsoids.push_back(e);
@@ -197,7 +205,7 @@ void load_quadric(ObjectContext& ctx) {
         const double vol6 = std::abs(dot(e1, cross(e2, e3)));
         const double l = std::max({length(e1), length(e2), length(e3), length(P[2] - P[1]), length(P[3] - P[1]), length(P[3] - P[2])});
         if (!std::isfinite(l) || !std::isfinite(vol6) || !std::isfinite(l * l * l))
-            t.fail("tetrahedron too large: its volume (edge length " + std::to_string(l) + " cubed) overflows a double");
+            t.fail("tetrahedron too large: its volume (edge length " + shortest(l) + " cubed) overflows a double");
         if (!(vol6 > 1e-12 * l * l * l)) t.fail("degenerate tetrahedron (zero volume)");
     }
     ctx.scene.quadrics.push_back(q);
