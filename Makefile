@@ -4,10 +4,10 @@ BUILD ?= build
 JOBS ?= $(shell nproc)
 DEB_PACKAGES := cmake g++ clang make pkg-config libeigen3-dev libglm-dev glslang-tools glslang-dev \
   doctest-dev libosmesa6-dev libcli11-dev nlohmann-json3-dev libtbb-dev libmpfrc++-dev libmpfr-dev \
-  libgmp-dev libbenchmark-dev libpng-dev nlohmann-json3-dev pymol-data zlib1g-dev
+  libgmp-dev libbenchmark-dev libpng-dev nlohmann-json3-dev pymol-data zlib1g-dev libclang-rt-14-dev
 DEMO_PACKAGES :=
 
-.PHONY: all deps demo-deps configure build test demo regenerate clean data install
+.PHONY: all deps demo-deps configure build test demo regenerate clean data install fuzz fuzz-build test-sanitize
 
 all: build
 
@@ -32,8 +32,48 @@ configure: deps
 build: configure
 	cmake --build $(BUILD) -j $(JOBS)
 
-test: build
+test: build fuzz-build
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
+
+# libFuzzer harnesses of every reader (tests/fuzz), built with Clang, ASan and UBSan in their own
+# directory: only the harnesses and the reader libraries. `make test` builds them (when Clang has
+# libFuzzer) so that ctest's fuzz_short_* runs them for a few seconds each; `make fuzz` runs
+# each for FUZZ_SECONDS, keeping what it finds in $(FUZZ_BUILD)/corpus/<reader>.
+FUZZ_BUILD ?= build-fuzz
+FUZZ_SECONDS ?= 600
+FUZZ_READERS := scene_json pdb off inr inr_gz nrrd raw
+FUZZ_FLAGS := -fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer -fsanitize=fuzzer-no-link
+fuzz-build: deps
+	@if echo 'extern "C" int LLVMFuzzerTestOneInput(const char*, unsigned long) { return 0; }' | \
+	    clang++ -x c++ -fsanitize=fuzzer -o /dev/null - 2>/dev/null; then \
+	  [ -f $(FUZZ_BUILD)/CMakeCache.txt ] || cmake -S . -B $(FUZZ_BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+	    -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_FLAGS="$(FUZZ_FLAGS)" \
+	    -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" || exit 1; \
+	  cmake --build $(FUZZ_BUILD) -j $(JOBS) --target $(addprefix fuzz_,$(FUZZ_READERS)) || exit 1; \
+	else echo "fuzz-build: clang++ has no libFuzzer (apt-get install clang libclang-rt-14-dev); fuzz tests are skipped"; fi
+
+fuzz: fuzz-build
+	@for r in $(FUZZ_READERS); do \
+	  echo "== fuzz_$$r for $(FUZZ_SECONDS) s"; \
+	  tests/fuzz/run_fuzzer.sh $(FUZZ_BUILD)/tests/fuzz/fuzz_$$r tests/fuzz/corpus/$$r $(FUZZ_SECONDS) $(FUZZ_BUILD)/corpus/$$r || exit 1; \
+	done
+
+# The input tests under AddressSanitizer + UndefinedBehaviorSanitizer (GCC, its own build
+# directory): the scene and volume test programs, the fuzz harnesses replaying their corpora
+# and the CLI tests of bad input and outputs. The OpenGL tests (gl, render, verify_kernels: llvmpipe
+# under ASan is slow and reports leaks inside Mesa), the package and codegen-comparison tests
+# that build the project again, and the benches are left out (SANITIZE_TESTS selects; set
+# SANITIZE_TARGETS=all SANITIZE_TESTS=. for everything).
+SANITIZE_BUILD ?= build-sanitize
+SANITIZE_TARGETS ?= test_scene test_volume quadcast_cli $(addprefix fuzz_,$(FUZZ_READERS))
+SANITIZE_TESTS ?= ^(scene|volume|fuzz_replay_.*|cli_render_.*|cli_volume_info_.*|cli_spline_coeffs_.*)$$
+test-sanitize: deps
+	@[ -f $(SANITIZE_BUILD)/CMakeCache.txt ] || cmake -S . -B $(SANITIZE_BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+	  -DCMAKE_CXX_FLAGS="-fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer" \
+	  -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined"
+	cmake --build $(SANITIZE_BUILD) -j $(JOBS) --target $(SANITIZE_TARGETS)
+	cd $(SANITIZE_BUILD) && ASAN_OPTIONS=detect_leaks=0 UBSAN_OPTIONS=print_stacktrace=1 \
+	  ctest --output-on-failure -j $(JOBS) -R '$(SANITIZE_TESTS)'
 
 DEMO_SCENES := 1tii_balls_and_sticks 1tii_space_filling il2_balls_and_sticks il2_space_filling quads_cube primitives marschner_lobb_qss reflective \
   skull_s31 liver_qss bunny_sdf_s31

@@ -26,6 +26,27 @@ TextPosition position_of(std::string_view text, std::size_t index) {
     return p;
 }
 
+/// Byte offset of the first bracket that opens level max_json_depth + 1, if any. Brackets inside
+/// strings do not count; the text need not be valid JSON (syntax errors are found later).
+std::optional<std::size_t> too_deep(std::string_view text) {
+    int depth = 0;
+    bool in_string = false;
+    for (std::size_t i = 0; i < text.size(); ++i) {
+        const char c = text[i];
+        if (in_string) {
+            if (c == '\\') ++i;
+            else if (c == '"') in_string = false;
+        } else if (c == '"') {
+            in_string = true;
+        } else if (c == '[' || c == '{') {
+            if (++depth > max_json_depth) return i;
+        } else if (c == ']' || c == '}') {
+            depth = std::max(depth - 1, 0);
+        }
+    }
+    return std::nullopt;
+}
+
 /// The DOM builder of nlohmann::json, but remembering where a syntax error happened (the
 /// library reports positions only through SAX; number overflow has none in the exception).
 struct PositionedDomParser : nlohmann::detail::json_sax_dom_parser<Json> {
@@ -41,17 +62,18 @@ struct PositionedDomParser : nlohmann::detail::json_sax_dom_parser<Json> {
     }
 };
 
-/// Records the position of every value and key of a valid JSON text under its pointer.
+/// Records the position of every value and key of a valid JSON text in a tree of pointer
+/// segments (a node per value: its parent and its own escaped key or index), so the memory is
+/// linear in the text -- a full pointer string per value would grow with depth x key length.
 class PositionScanner {
 public:
-    PositionScanner(std::string_view text, std::unordered_map<std::string, TextPosition>& values,
-                    std::unordered_map<std::string, TextPosition>& keys)
-        : s_(text), values_(values), keys_(keys) {}
+    PositionScanner(std::string_view text, PositionTree& tree) : s_(text), tree_(tree) {}
 
     /// Returns the pointer of the first duplicate key (and its byte offset), if any.
     std::optional<std::pair<std::string, std::size_t>> run() {
         if (s_.substr(0, 3) == "\xEF\xBB\xBF") i_ = 3;  // UTF-8 byte order mark, skipped like nlohmann does
-        value("");
+        tree_.nodes.push_back({});
+        value(0);
         return duplicate_;
     }
 
@@ -78,9 +100,19 @@ private:
         ++i_;
         return s_.substr(b, i_ - b);
     }
-    void value(const std::string& ptr) {
+    /// The child `segment` of node `parent` (created; false when it existed already).
+    std::pair<std::uint32_t, bool> child(std::uint32_t parent, const std::string& segment) {
+        const auto id = static_cast<std::uint32_t>(tree_.nodes.size());
+        const auto [it, fresh] = tree_.children.emplace(PositionTree::child_key(parent, segment), id);
+        if (fresh) tree_.nodes.push_back({});
+        return {it->second, fresh};
+    }
+    /// The pointer of `node` (only built for a message).
+    std::string pointer_of(std::uint32_t node, const std::string& last) const { return tree_.pointer(node) + "/" + last; }
+
+    void value(std::uint32_t node) {
         ws();
-        values_[ptr] = here();
+        tree_.nodes[node].value = here();
         if (i_ >= s_.size()) return;
         const char c = s_[i_];
         if (c == '{') {
@@ -94,12 +126,13 @@ private:
                 ws();
                 const std::size_t key_start = i_;
                 const TextPosition kp = here();
-                const std::string key = Json::parse(string_token()).get<std::string>();
-                const std::string child = ptr + "/" + json_pointer_escape(key);
-                if (!keys_.emplace(child, kp).second && !duplicate_) duplicate_ = std::make_pair(child, key_start);
+                const std::string key = json_pointer_escape(Json::parse(string_token()).get<std::string>());
+                const auto [id, fresh] = child(node, key);
+                if (fresh) tree_.nodes[id].key = kp;
+                else if (!duplicate_) duplicate_ = std::make_pair(pointer_of(node, key), key_start);
                 ws();
                 ++i_;  // ':'
-                value(child);
+                value(id);
                 ws();
                 if (i_ < s_.size() && s_[i_++] == '}') return;
             }
@@ -111,7 +144,7 @@ private:
                 return;
             }
             for (std::size_t k = 0; i_ < s_.size(); ++k) {
-                value(ptr + "/" + std::to_string(k));
+                value(child(node, std::to_string(k)).first);
                 ws();
                 if (i_ < s_.size() && s_[i_++] == ']') return;
             }
@@ -125,8 +158,7 @@ private:
     std::string_view s_;
     std::size_t i_ = 0, pos_index_ = 0;
     TextPosition pos_{1, 1};
-    std::unordered_map<std::string, TextPosition>& values_;
-    std::unordered_map<std::string, TextPosition>& keys_;
+    PositionTree& tree_;
     std::optional<std::pair<std::string, std::size_t>> duplicate_;
 };
 
@@ -181,6 +213,12 @@ std::string json_pointer_escape(std::string_view key) {
 // JsonDocument ---------------------------------------------------------------------------------
 
 JsonDocument::JsonDocument(std::string text, std::string file_name) : file_(std::move(file_name)), text_(std::move(text)) {
+    // The position scanner recurses once per level: bound the depth before anything recurses.
+    if (const auto deep = too_deep(text_)) {
+        const TextPosition p = position_of(text_, *deep);
+        throw ParseError({file_, p.line, p.column, ""},
+                         "nested deeper than " + std::to_string(max_json_depth) + " arrays/objects (the limit of a scene file)");
+    }
     PositionedDomParser dom(json_);
     try {
         Json::sax_parse(text_, &dom);
@@ -208,7 +246,7 @@ JsonDocument::JsonDocument(std::string text, std::string file_name) : file_(std:
         const TextPosition p = position_of(text_, index);
         throw ParseError({file_, p.line, p.column, ""}, message);
     }
-    PositionScanner scanner(text_, values_, keys_);
+    PositionScanner scanner(text_, tree_);
     if (const auto dup = scanner.run()) {
         const TextPosition p = position_of(text_, dup->second);
         throw ParseError({file_, p.line, p.column, dup->first}, "duplicate key");
@@ -217,10 +255,47 @@ JsonDocument::JsonDocument(std::string text, std::string file_name) : file_(std:
 
 JsonNode JsonDocument::root() const { return JsonNode(*this, json_, ""); }
 
+std::string PositionTree::child_key(std::uint32_t parent, std::string_view segment) {
+    std::string k(sizeof parent, '\0');
+    std::memcpy(k.data(), &parent, sizeof parent);
+    k += segment;
+    return k;
+}
+
+std::string PositionTree::pointer(std::uint32_t node) const {
+    // Only for messages: a linear search for the parent of each level is fine.
+    std::vector<std::string> segments;
+    while (node != 0) {
+        bool found = false;
+        for (const auto& [k, id] : children)
+            if (id == node) {
+                std::uint32_t parent = 0;
+                std::memcpy(&parent, k.data(), sizeof parent);
+                segments.push_back(k.substr(sizeof parent));
+                node = parent;
+                found = true;
+                break;
+            }
+        if (!found) break;
+    }
+    std::string p;
+    for (auto it = segments.rbegin(); it != segments.rend(); ++it) p += "/" + *it;
+    return p;
+}
+
 TextPosition JsonDocument::position(const std::string& pointer, bool key) const {
-    const auto& map = key ? keys_ : values_;
-    const auto it = map.find(pointer);
-    return it == map.end() ? TextPosition{} : it->second;
+    // Walk the pointer's segments down the tree ("" is the root, "/a/0" = child "a", child "0").
+    if (tree_.nodes.empty()) return {};
+    std::uint32_t node = 0;
+    std::size_t i = 0;
+    while (i < pointer.size()) {
+        const std::size_t b = i + 1, e = std::min(pointer.find('/', b), pointer.size());
+        const auto it = tree_.children.find(PositionTree::child_key(node, std::string_view(pointer).substr(b, e - b)));
+        if (it == tree_.children.end()) return {};
+        node = it->second;
+        i = e;
+    }
+    return key ? tree_.nodes[node].key : tree_.nodes[node].value;
 }
 
 Location JsonDocument::location(const std::string& pointer, bool key) const {
@@ -257,7 +332,7 @@ void JsonNode::expect_keys(const std::vector<std::string_view>& allowed) const {
     if (!value_->is_object()) fail("expected an object, got " + describe());
     for (const auto& [key, val] : value_->items()) {
         if (std::find(allowed.begin(), allowed.end(), key) != allowed.end()) continue;
-        std::string msg = "unknown key '" + key + "'";
+        std::string msg = "unknown key " + quote_token(key);
         std::string_view best;
         std::size_t best_d = 3;  // suggest only close matches
         for (std::string_view a : allowed)
@@ -329,7 +404,7 @@ std::string JsonNode::choice(std::initializer_list<std::string_view> choices) co
     std::vector<std::string_view> list(choices);
     if (!value_->is_string()) fail("expected one of \"" + join(list) + "\", got " + describe());
     const std::string s = value_->get<std::string>();
-    if (std::find(list.begin(), list.end(), s) == list.end()) fail("'" + s + "' is not one of: " + join(list));
+    if (std::find(list.begin(), list.end(), s) == list.end()) fail(quote_token(s) + " is not one of: " + join(list));
     return s;
 }
 

@@ -23,6 +23,19 @@ struct Line {
 class OffParser {
 public:
     OffParser(std::istream& in, const std::string& file) : in_(in) { mesh_.file = file; }
+    /// Bytes of the input left after the current line (-1: unknown, e.g. a pipe).
+    long long remaining() {
+        const auto here = in_.tellg();
+        if (here < 0) return -1;
+        in_.seekg(0, std::ios::end);
+        const auto end = in_.tellg();
+        in_.seekg(here);
+        if (end < 0 || !in_) {
+            in_.clear();
+            return -1;
+        }
+        return static_cast<long long>(end - here);
+    }
 
     OffMesh run() {
         // Header and counts.
@@ -34,12 +47,13 @@ public:
                 error(first.number, "header", "binary OFF is not supported");
             t = 1;
         } else if (h.size() > 3 && h.compare(h.size() - 3, 3, "OFF") == 0) {
-            error(first.number, "header", "'" + h + "' files are not supported (plain OFF only)");
+            error(first.number, "header", quote_token(h) + " files are not supported (plain OFF only)");
         } else if (!std::isdigit(static_cast<unsigned char>(h[0]))) {
-            error(first.number, "header", "expected 'OFF', found '" + h + "'");
+            error(first.number, "header", "expected 'OFF', found " + quote_token(h));
         }
         Line counts = t < first.tokens.size() ? Line{first.number, {first.tokens.begin() + long(t), first.tokens.end()}}
                                               : next_line("counts");
+        remaining_ = remaining();
         if (counts.tokens.size() < 2 || counts.tokens.size() > 3)
             error(counts.number, "counts", "expected 'vertex_count face_count [edge_count]', found " +
                                                std::to_string(counts.tokens.size()) + " values");
@@ -47,8 +61,18 @@ public:
         const long nf = count(counts, 1, "face_count");
         if (counts.tokens.size() == 3) (void)count(counts, 2, "edge_count");
 
+        // Reserve only what the rest of the file can hold (a vertex line takes at least 6 bytes,
+        // "0 0 0\n"): counts larger than the file are found where it ends, without allocating for
+        // them first.
+        const auto fits = [&](long n, long long bytes_each) { return remaining_ < 0 ? n <= 1'000'000 : bytes_each * n <= remaining_; };
+        if (fits(nv, 6)) mesh_.vertices.reserve(std::size_t(nv));
+        if (fits(nf, 8)) {
+            mesh_.faces.reserve(std::size_t(nf));
+            mesh_.face_lines.reserve(std::size_t(nf));
+            mesh_.face_colors.reserve(std::size_t(nf));
+        }
+
         // Vertices.
-        mesh_.vertices.reserve(std::size_t(nv));
         for (long i = 0; i < nv; ++i) {
             const std::string what = "vertex " + std::to_string(i);
             Line l = next_line(what, "file ends after " + std::to_string(i) + " of " + std::to_string(nv) + " vertices");
@@ -136,15 +160,15 @@ private:
         const char* b = s.data();
         if (!s.empty() && s[0] == '+') ++b;
         const auto [p, ec] = std::from_chars(b, s.data() + s.size(), v);
-        if (ec != std::errc() || p != s.data() + s.size()) error(l.number, field, "'" + s + "' is not a number");
-        if (!std::isfinite(v)) error(l.number, field, "'" + s + "' is not finite");
+        if (ec != std::errc() || p != s.data() + s.size()) error(l.number, field, quote_token(s) + " is not a number");
+        if (!std::isfinite(v)) error(l.number, field, quote_token(s) + " is not finite");
         return v;
     }
     long integer(const Line& l, std::size_t k, const std::string& field) const {
         const std::string& s = l.tokens[k];
         long v = 0;
         const auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
-        if (ec != std::errc() || p != s.data() + s.size()) error(l.number, field, "'" + s + "' is not an integer");
+        if (ec != std::errc() || p != s.data() + s.size()) error(l.number, field, quote_token(s) + " is not an integer");
         return v;
     }
     long count(const Line& l, std::size_t k, const std::string& field) const {
@@ -164,13 +188,14 @@ private:
             double v = number(l, first + k, field);
             if (integers) v /= 255.0;
             if (v < 0.0 || v > 1.0)
-                error(l.number, field, "'" + l.tokens[first + k] + "' is outside " + (integers ? "0..255" : "0..1"));
+                error(l.number, field, quote_token(l.tokens[first + k]) + " is outside " + (integers ? "0..255" : "0..1"));
             c[int(k)] = v;
         }
         return c;
     }
 
     std::istream& in_;
+    long long remaining_ = -1;
     OffMesh mesh_;
     int line_no_ = 0;
 };

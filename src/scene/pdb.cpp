@@ -34,7 +34,7 @@ std::string field_name(const char* name, int first, int last) {
     return std::string(name) + " (columns " + std::to_string(first) + "-" + std::to_string(last) + ")";
 }
 
-std::string in_quotes(std::string_view s) { return "'" + std::string(s) + "'"; }
+std::string in_quotes(std::string_view s) { return quote_token(s); }
 
 /// Reads a line-oriented file, keeping track of where we are for diagnostics.
 class PdbParser {
@@ -299,10 +299,24 @@ void compute_bonds(Molecule& m) {
     };
     std::unordered_map<std::uint64_t, std::vector<Entry>> grid;
     grid.reserve(n);
+    const auto crowded = [&](std::size_t i, const std::string& what) {
+        throw ParseError({m.file, m.atoms[i].line, 0, "atom " + quote_token(m.atoms[i].name)},
+                         what + " (not a molecular structure: at most " + std::to_string(max_bonds_per_atom) +
+                             " bonds per atom are allowed)");
+    };
     for (std::size_t i = 0; i < n; ++i) {
         const auto c = cell_of(m.atoms[i].position);
-        grid[key(c[0], c[1], c[2])].push_back({c, int(i)});
+        std::vector<Entry>& in_cell = grid[key(c[0], c[1], c[2])];
+        in_cell.push_back({c, int(i)});
+        // A grid cell is a cube of two bond lengths: real matter puts a few dozen atoms in it.
+        // Absurd densities (thousands of atoms at one point) would make the search quadratic.
+        if (in_cell.size() > max_atoms_per_cell)
+            crowded(i, "more than " + std::to_string(max_atoms_per_cell) + " atoms within a cube of " +
+                           std::to_string(cell) + " A side");
     }
+    // Atoms within bonding distance of each atom (closer than 0.4 A included): more than
+    // max_bonds_per_atom is an error, found before the bond list grows quadratically.
+    std::vector<std::uint16_t> near(n, 0);
 
     std::vector<Bond> bonds = m.bonds;
     for (std::size_t i = 0; i < n; ++i) {
@@ -320,7 +334,11 @@ void compute_bonds(Molecule& m) {
                         if (a.hetatm && b.hetatm && m.in_conect[i] && m.in_conect[std::size_t(e.atom)]) continue;
                         const double d2 = length2(b.position - a.position);
                         const double cut = tolerance * (a.element->covalent + b.element->covalent);
-                        if (d2 < cut * cut && d2 > min_distance * min_distance) bonds.push_back({int(i), e.atom});
+                        if (!(d2 < cut * cut)) continue;
+                        for (const std::size_t k : {i, std::size_t(e.atom)})
+                            if (++near[k] > max_bonds_per_atom)
+                                crowded(k, "more than " + std::to_string(max_bonds_per_atom) + " atoms within bonding distance");
+                        if (d2 > min_distance * min_distance) bonds.push_back({int(i), e.atom});
                     }
                 }
     }

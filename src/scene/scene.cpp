@@ -22,12 +22,32 @@ std::string format_location(const Location& where) {
         }
         s += ": ";
     }
-    if (!where.field.empty()) s += where.field + ": ";
+    if (!where.field.empty()) {
+        // A pointer holds keys from the input: keep a long one short like a quoted token.
+        if (where.field.size() > 4 * max_token_chars) s += where.field.substr(0, 4 * max_token_chars) + "...: ";
+        else s += where.field + ": ";
+    }
     return s;
 }
 
 ParseError::ParseError(Location where, const std::string& message)
     : std::runtime_error(format_location(where) + message), where_(std::move(where)), message_(message) {}
+
+ParseErrors::ParseErrors(std::vector<ParseError> errors)
+    : ParseError(errors.at(0).where(), errors.at(0).message()), errors_(std::move(errors)) {
+    for (std::size_t i = 0; i < errors_.size() && i < max_reported; ++i) text_ += (i ? "\n" : "") + std::string(errors_[i].what());
+    if (errors_.size() > max_reported)
+        text_ += "\n... and " + std::to_string(errors_.size() - max_reported) + " more error" +
+                 (errors_.size() - max_reported > 1 ? "s" : "");
+}
+
+std::string quote_token(std::string_view text) {
+    if (text.size() <= max_token_chars) return "'" + std::string(text) + "'";
+    // Cut at a UTF-8 character boundary.
+    std::size_t n = max_token_chars;
+    while (n > 0 && (static_cast<unsigned char>(text[n]) & 0xC0) == 0x80) --n;
+    return "'" + std::string(text.substr(0, n)) + "...' (" + std::to_string(text.size()) + " bytes)";
+}
 
 // Camera ---------------------------------------------------------------------------------------
 
@@ -41,9 +61,12 @@ Camera::Problem Camera::check() const {
     if (!finite3(up)) return {"up", "not finite"};
     const Vec3d dir = target - eye;
     const double ld = length(dir);
-    if (!(ld > 0.0) || !std::isfinite(ld)) return {"target", "equals eye (no view direction)"};
+    if (!std::isfinite(ld))
+        return {"eye", "is too far from target: |target - eye| overflows a double (not a zero view direction)"};
+    if (!(ld > 0.0)) return {"target", "equals eye (no view direction)"};
     const double lu = length(up);
-    if (!(lu > 0.0) || !std::isfinite(lu)) return {"up", "is the zero vector"};
+    if (!std::isfinite(lu)) return {"up", "is too long: its length overflows a double"};
+    if (!(lu > 0.0)) return {"up", "is the zero vector"};
     // |sin(angle)| between up and the view direction; 1e-3 is about 0.06 degrees.
     const double s = length(cross(dir / ld, up / lu));
     if (!(s > 1e-3)) return {"up", "is parallel to the view direction (target - eye)"};

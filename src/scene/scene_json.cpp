@@ -4,11 +4,13 @@
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <numbers>
 #include <sstream>
+#include <tuple>
 
 #include "quadcast/scene/off.hpp"
 #include "quadcast/scene/pdb.hpp"
@@ -18,6 +20,52 @@ namespace quadcast::scene {
 namespace {
 
 const std::vector<std::string_view> kCommonKeys = {"color", "material", "comment"};
+
+/// A number for a message: "%g" (1e-200, not std::to_string's 0.000000).
+std::string shortest(double x) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%g", x);
+    return buf;
+}
+
+/// The errors found so far, each with its position in the scene file (the position of the entry
+/// that loaded another file, for errors inside that file), for sorting into file order.
+struct ErrorList {
+    struct Item {
+        TextPosition at;
+        std::size_t found;  // order of discovery, to keep equal positions stable
+        ParseError error;
+    };
+    std::vector<Item> items;
+    const JsonDocument* doc = nullptr;
+
+    void add(const ParseError& e, const JsonNode* from = nullptr) {
+        TextPosition at{e.line(), e.column()};
+        if (e.file() != doc->file() && from) at = from->document().position(from->pointer());
+        items.push_back({at, items.size(), e});
+    }
+    /// Runs `f`, recording a ParseError (or running out of memory) instead of propagating it.
+    template <class F>
+    bool attempt(const JsonNode& at, F&& f) {
+        try {
+            f();
+            return true;
+        } catch (const ParseError& e) {
+            add(e, &at);
+        } catch (const std::bad_alloc&) {
+            add(ParseError(at.location(), "out of memory while loading this entry"), &at);
+        }
+        return false;
+    }
+    [[noreturn]] void raise() {
+        std::stable_sort(items.begin(), items.end(), [](const Item& a, const Item& b) {
+            return std::tie(a.at.line, a.at.column, a.found) < std::tie(b.at.line, b.at.column, b.found);
+        });
+        std::vector<ParseError> sorted;
+        for (const Item& i : items) sorted.push_back(i.error);
+        throw ParseErrors(std::move(sorted));
+    }
+};
 
 /// Re-throws a reader's error with a note of which scene entry loaded the file.
 [[noreturn]] void rethrow_from(const ParseError& e, const JsonNode& from) {
@@ -71,6 +119,16 @@ void load_ellipsoid(ObjectContext& ctx) {
             rot = rotation(rn->at("axis").direction(), rn->at("angle").number());
         }
         for (std::size_t i = 0; i < 3; ++i) e.axes[i] = rot[i] * r[i].number(Range::positive);
+    }
+    // The renderer inverts the axis matrix and squares the inverse: lengths outside
+    // [1e-150, 1e150] under- or overflow there, so they are rejected here, with the location.
+    const JsonNode where = v.has("axes") ? v.at("axes") : v.at("radii");
+    for (std::size_t i = 0; i < 3; ++i) {
+        double big = 0.0;
+        for (int k = 0; k < 3; ++k) big = std::max(big, std::abs(e.axes[i][k]));
+        if (!(big >= 1e-150 && big <= 1e150))
+            where.fail("semi-axis " + std::to_string(i) + " has length " + shortest(big) +
+                       ", outside [1e-150, 1e150] (the ellipsoid's matrix would under- or overflow a double)");
     }
     ctx.scene.ellipsoids.push_back(e);
 }
@@ -146,6 +204,8 @@ void load_quadric(ObjectContext& ctx) {
         const Vec3d e1 = P[1] - P[0], e2 = P[2] - P[0], e3 = P[3] - P[0];
         const double vol6 = std::abs(dot(e1, cross(e2, e3)));
         const double l = std::max({length(e1), length(e2), length(e3), length(P[2] - P[1]), length(P[3] - P[1]), length(P[3] - P[2])});
+        if (!std::isfinite(l) || !std::isfinite(vol6) || !std::isfinite(l * l * l))
+            t.fail("tetrahedron too large: its volume (edge length " + shortest(l) + " cubed) overflows a double");
         if (!(vol6 > 1e-12 * l * l * l)) t.fail("degenerate tetrahedron (zero volume)");
     }
     ctx.scene.quadrics.push_back(q);
@@ -217,6 +277,7 @@ void load_volume(ObjectContext& ctx) {
     Volume v;
     v.material = ctx.material;
     v.iso = ctx.entry.at("iso").number();
+    v.iso_where = ctx.entry.at("iso").location();
     if (const auto s = ctx.entry.get("scheme")) {
         const std::string k = s->choice({"qss", "s31", "trilinear"});
         v.scheme = k == "s31" ? Volume::Scheme::s31 : k == "trilinear" ? Volume::Scheme::trilinear : Volume::Scheme::qss;
@@ -231,12 +292,12 @@ void load_volume(ObjectContext& ctx) {
             char* end = nullptr;
             const long n = std::strtol(num.c_str(), &end, 10);
             if (num.empty() || *end != '\0' || n < 2 || n > 1024)
-                ctx.value.fail("the sample count after '" + name + ":' must be an integer in [2, 1024], got '" + num + "'");
+                ctx.value.fail("the sample count after " + quote_token(name + ":") + " must be an integer in [2, 1024], got " + quote_token(num));
             v.size = static_cast<int>(n);
         }
         std::replace(name.begin(), name.end(), '_', '-');
         if (name != "marschner-lobb" && name != "franke")
-            ctx.value.fail("unknown synthetic volume '" + name + "' (expected marschner_lobb or franke)");
+            ctx.value.fail("unknown synthetic volume " + quote_token(name) + " (expected marschner_lobb or franke)");
         v.input = name;
         v.synthetic = true;
         const double lo = name == "franke" ? 0.0 : -1.0;
@@ -247,6 +308,10 @@ void load_volume(ObjectContext& ctx) {
         if (const VolumeBoxFunction f = volume_box_function()) {
             try {
                 v.box = f(v);
+            } catch (const ParseError&) {
+                throw;  // located by the box function (e.g. at "iso")
+            } catch (const std::bad_alloc&) {
+                ctx.value.fail("out of memory while reading '" + v.input + "'");
             } catch (const std::exception& e) {
                 ctx.value.fail(e.what());
             }
@@ -317,6 +382,13 @@ void load_environment(const JsonNode& n, Options& o, const std::filesystem::path
         p = p.lexically_normal();
         std::error_code ec;
         if (!std::filesystem::is_regular_file(p, ec)) f->fail("cannot open '" + p.string() + "': no such file");
+        // The image is decoded at render time; check here that it is a PNG at all, so the error
+        // has the scene location.
+        std::ifstream in(p, std::ios::binary);
+        char sig[8] = {};
+        in.read(sig, sizeof sig);
+        if (!in || std::memcmp(sig, "\x89PNG\r\n\x1a\n", 8) != 0)
+            f->fail("'" + p.string() + "' is not a PNG file (no PNG signature)");
         o.environment = Options::Environment::file;
         o.environment_file = p;
     } else {
@@ -389,14 +461,15 @@ Camera load_camera(const JsonNode& n, const Aabb& box) {
     const Camera::Problem p = c.check();
     if (!p.field.empty()) {
         if (const auto f = n.get(p.field)) f->fail(p.message);
+        if (p.field == "up")
+            n.fail("the default up [0, 1, 0] " + p.message + "; give \"up\"");
         n.fail(p.field + " (computed from the scene bounds) " + p.message);
     }
     return c;
 }
 
-std::vector<Light> load_lights(const JsonNode& n) {
-    std::vector<Light> lights;
-    for (const JsonNode& l : n.array()) {
+Light load_light(const JsonNode& l) {
+    {
         l.expect_keys({"direction", "position", "color", "intensity", "comment"});
         if (l.has("direction") == l.has("position")) l.fail("a light has either \"direction\" or \"position\"");
         Light light;
@@ -409,9 +482,8 @@ std::vector<Light> load_lights(const JsonNode& n) {
         }
         if (const auto c = l.get("color")) light.color = c->color();
         if (const auto i = l.get("intensity")) light.intensity = i->number(Range::nonnegative);
-        lights.push_back(light);
+        return light;
     }
-    return lights;
 }
 
 }  // namespace
@@ -448,36 +520,69 @@ Scene parse_scene(std::string text, const std::string& file_name, const std::fil
     const JsonDocument doc(std::move(text), file_name);
     const JsonNode root = doc.root();
     if (!root.json().is_object()) root.fail("a scene is a JSON object with \"objects\", \"camera\", ..., got " + root.describe());
-    root.expect_keys({"camera", "lights", "objects", "options", "comment"});
+    // Every section and every object is checked even after an error (errors are collected and
+    // reported in file order); the scene is returned only when there is none.
+    ErrorList errors;
+    errors.doc = &doc;
+    const bool keys_ok = errors.attempt(root, [&] { root.expect_keys({"camera", "lights", "objects", "options", "comment"}); });
 
     Scene scene;
     scene.source = file_name;
-    if (const auto o = root.get("options")) scene.options = load_options(*o, base_dir);
-    const JsonNode objects = root.at("objects");
-    for (const JsonNode& entry : objects.array()) load_object(scene, entry, base_dir);
-    if (scene.primitive_count() == 0) scene.warnings.push_back(objects.warning("the scene has nothing to draw"));
+    if (const auto o = root.get("options")) errors.attempt(*o, [&] { scene.options = load_options(*o, base_dir); });
+    std::optional<JsonNode> objects;
+    if (keys_ok || root.has("objects")) errors.attempt(root, [&] { objects = root.at("objects"); });  // a misspelt key says enough
+    if (objects) {
+        std::vector<JsonNode> entries;
+        errors.attempt(*objects, [&] { entries = objects->array(); });
+        for (const JsonNode& entry : entries) errors.attempt(entry, [&] { load_object(scene, entry, base_dir); });
+        if (scene.primitive_count() == 0 && errors.items.empty())
+            scene.warnings.push_back(objects->warning("the scene has nothing to draw"));
+    }
 
     const Aabb box = scene.bounds();
-    scene.camera = root.has("camera") ? load_camera(root.at("camera"), box) : fit_camera(box);
+    scene.camera = fit_camera(box);
+    if (root.has("camera")) errors.attempt(root.at("camera"), [&] { scene.camera = load_camera(root.at("camera"), box); });
     if (const auto l = root.get("lights")) {
-        scene.lights = load_lights(*l);
+        if (l->json().is_array()) {
+            for (const JsonNode& light : l->array())
+                errors.attempt(light, [&] { scene.lights.push_back(load_light(light)); });
+        } else {
+            errors.attempt(*l, [&] { l->array(); });
+        }
     } else {
         Light head;  // a headlight: shines along the view direction
         head.direction = scene.camera.target - scene.camera.eye;
         scene.lights.push_back(head);
     }
+    if (!errors.items.empty()) errors.raise();
     return scene;
 }
 
 Scene load_scene(const std::filesystem::path& path) {
+    const Location file{path.string(), 0, 0, ""};
+    std::error_code ec;
+    const auto st = std::filesystem::status(path, ec);
+    if (!ec && std::filesystem::exists(st) && !std::filesystem::is_regular_file(st))
+        throw ParseError(file, "not a regular file");
+    if (!ec && std::filesystem::is_regular_file(st)) {
+        const std::uintmax_t size = std::filesystem::file_size(path, ec);
+        if (!ec && size > max_scene_file_bytes)
+            throw ParseError(file, "the file has " + std::to_string(size) + " bytes, more than the limit of " +
+                                       std::to_string(max_scene_file_bytes >> 20) +
+                                       " MiB for a scene file (put large geometry in PDB, OFF or volume files)");
+    }
     std::ifstream in(path, std::ios::binary);
-    if (!in) throw ParseError({path.string(), 0, 0, ""}, std::string("cannot open: ") + std::strerror(errno));
-    std::ostringstream ss;
-    ss << in.rdbuf();
-    if (in.bad()) throw ParseError({path.string(), 0, 0, ""}, "read error");
-    std::filesystem::path base = path.parent_path();
-    if (base.empty()) base = ".";
-    return parse_scene(ss.str(), path.string(), base);
+    if (!in) throw ParseError(file, std::string("cannot open: ") + std::strerror(errno));
+    try {
+        std::ostringstream ss;
+        ss << in.rdbuf();
+        if (in.bad()) throw ParseError(file, "read error");
+        std::filesystem::path base = path.parent_path();
+        if (base.empty()) base = ".";
+        return parse_scene(ss.str(), path.string(), base);
+    } catch (const std::bad_alloc&) {
+        throw ParseError(file, "out of memory while loading the scene");
+    }
 }
 
 }  // namespace quadcast::scene

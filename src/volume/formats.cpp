@@ -23,6 +23,10 @@ namespace {
 
 /// Largest volume accepted (samples), so that sizes cannot overflow and absurd headers fail fast.
 constexpr std::uint64_t max_samples = std::uint64_t(1) << 34;
+/// Largest size along one axis (sample indices stay exact in float).
+constexpr long long max_axis_samples = 1LL << 24;
+/// An INR header (with its padding) must end within this many bytes.
+constexpr std::uint64_t max_inr_header_bytes = std::uint64_t(1) << 20;
 
 std::string trim(std::string s) {
     const auto ws = [](char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n'; };
@@ -87,10 +91,13 @@ VolumeData make_volume(const std::string& name, int nx, int ny, int nz, std::spa
 std::uint64_t checked_count(const std::string& name, long long nx, long long ny, long long nz, int line,
                             const std::string& field) {
     const std::uint64_t n = static_cast<std::uint64_t>(nx) * static_cast<std::uint64_t>(ny);
-    if (nx > (1 << 24) || ny > (1 << 24) || nz > (1 << 24) || n > max_samples || n * static_cast<std::uint64_t>(nz) > max_samples)
+    const std::string dims = std::to_string(nx) + "x" + std::to_string(ny) + "x" + std::to_string(nz);
+    if (nx > max_axis_samples || ny > max_axis_samples || nz > max_axis_samples)
         throw VolumeError(name, -1, line, field,
-                          "dimensions " + std::to_string(nx) + "x" + std::to_string(ny) + "x" + std::to_string(nz) +
-                              " are too large (more than 2^34 samples)");
+                          "dimensions " + dims + " are too large (more than 2^24 = " + std::to_string(max_axis_samples) +
+                              " samples along an axis)");
+    if (n > max_samples || n * static_cast<std::uint64_t>(nz) > max_samples)
+        throw VolumeError(name, -1, line, field, "dimensions " + dims + " are too large (more than 2^34 samples in all)");
     return n * static_cast<std::uint64_t>(nz);
 }
 
@@ -98,7 +105,21 @@ std::uint64_t checked_count(const std::string& name, long long nx, long long ny,
 
 // ---- INR ------------------------------------------------------------------------------------------
 
-VolumeData parse_inr(std::span<const std::uint8_t> bytes, const std::string& name, const ReadOptions& options) {
+namespace {
+
+/// What an INR header says.
+struct InrHeader {
+    long long nx = 0, ny = 0, nz = 0;
+    std::uint64_t count = 0;
+    SampleType type{};
+    Endian endian = Endian::little;
+    Vec3d spacing{}, origin{};
+    std::size_t data_offset = 0;
+    std::vector<std::string> warnings;
+    std::uint64_t file_bytes() const { return data_offset + count * static_cast<std::uint64_t>(sample_bytes(type)); }
+};
+
+InrHeader parse_inr_header(std::span<const std::uint8_t> bytes, const std::string& name) {
     static const char magic[] = "#INRIMAGE-4#{";
     const std::size_t mlen = sizeof magic - 1;
     if (bytes.size() < mlen || std::memcmp(bytes.data(), magic, mlen) != 0) {
@@ -223,11 +244,25 @@ VolumeData parse_inr(std::span<const std::uint8_t> bytes, const std::string& nam
                            " ignored (samples are used as stored)");
     static const char* const known[] = {"XDIM", "YDIM", "ZDIM", "VDIM", "TYPE", "PIXSIZE", "SCALE", "CPU",
                                         "VX", "VY", "VZ", "TX", "TY", "TZ"};
-    for (const auto& [k, e] : fields)
+    for (const auto& field : fields) {
+        const std::string& k = field.first;  // not a structured binding: Clang 14 cannot capture those
         if (std::find_if(std::begin(known), std::end(known), [&](const char* n) { return k == n; }) == std::end(known))
-            warnings.push_back(name + ": header line " + std::to_string(e.line) + ": unknown field " + k + " ignored");
+            warnings.push_back(name + ": header line " + std::to_string(field.second.line) + ": unknown field " + k + " ignored");
+    }
     const Vec3d spacing{{field_double("VX", 1.0, true), field_double("VY", 1.0, true), field_double("VZ", 1.0, true)}};
     const Vec3d origin{{field_double("TX", 0.0, false), field_double("TY", 0.0, false), field_double("TZ", 0.0, false)}};
+    return {nx, ny, nz, count, type, endian, spacing, origin, data_offset, warnings};
+}
+
+}  // namespace
+
+VolumeData parse_inr(std::span<const std::uint8_t> bytes, const std::string& name, const ReadOptions& options) {
+    InrHeader h = parse_inr_header(bytes, name);
+    const long long nx = h.nx, ny = h.ny, nz = h.nz;
+    const std::uint64_t count = h.count;
+    const SampleType type = h.type;
+    const std::size_t data_offset = h.data_offset;
+    std::vector<std::string>& warnings = h.warnings;
 
     // Samples.
     const std::uint64_t need = count * static_cast<std::uint64_t>(sample_bytes(type));
@@ -241,16 +276,24 @@ VolumeData parse_inr(std::span<const std::uint8_t> bytes, const std::string& nam
         warnings.push_back(name + ": byte " + std::to_string(data_offset + need) + ": " + std::to_string(have - need) +
                            " bytes after the voxel data ignored");
     VolumeData v = make_volume(name, int(nx), int(ny), int(nz), bytes.subspan(data_offset, need),
-                               static_cast<std::int64_t>(data_offset), type, endian, options);
-    v.spacing = spacing;
-    v.origin = origin;
+                               static_cast<std::int64_t>(data_offset), type, h.endian, options);
+    v.spacing = h.spacing;
+    v.origin = h.origin;
     v.warnings.insert(v.warnings.begin(), warnings.begin(), warnings.end());
     return v;
 }
 
+VolumeData parse_inr_file(std::span<const std::uint8_t> raw, const std::string& path, const ReadOptions& options,
+                          std::uint64_t max_bytes) {
+    if (raw.size() < 2 || raw[0] != 0x1f || raw[1] != 0x8b) return parse_inr(raw, path, options);
+    // .inr.gz: the header says how many bytes to expect; decompress no more than that (plus
+    // max_trailing_bytes), so a small file cannot expand without bound.
+    const InrHeader h = parse_inr_header(gunzip(raw, path, std::min(max_inr_header_bytes, max_bytes), true), path);
+    return parse_inr(gunzip(raw, path, std::min(h.file_bytes() + max_trailing_bytes, max_bytes)), path, options);
+}
+
 VolumeData read_inr(const std::string& path, const ReadOptions& options) {
-    const std::vector<std::uint8_t> bytes = read_file_bytes(path);
-    return parse_inr(bytes, path, options);
+    return parse_inr_file(read_regular_file(path), path, options);
 }
 
 namespace {
@@ -508,9 +551,11 @@ VolumeData parse_nrrd(std::span<const std::uint8_t> bytes, const std::string& pa
                                         "space origin", "data file", "datafile", "line skip", "lineskip", "byte skip",
                                         "byteskip", "content", "space", "kinds", "centers", "centerings", "space units",
                                         "units", "labels", "min", "max", "old min", "old max", "measurement frame"};
-    for (const auto& [k, e] : fields)
+    for (const auto& field : fields) {
+        const std::string& k = field.first;  // not a structured binding: Clang 14 cannot capture those
         if (std::find_if(std::begin(known), std::end(known), [&](const char* n) { return k == n; }) == std::end(known))
-            warnings.push_back(name + ": header line " + std::to_string(e.line) + ": field '" + k + "' ignored");
+            warnings.push_back(name + ": header line " + std::to_string(field.second.line) + ": field " + show(k) + " ignored");
+    }
 
     // The samples: after the header, or in a detached file.
     std::vector<std::uint8_t> payload;
@@ -523,9 +568,28 @@ VolumeData parse_nrrd(std::span<const std::uint8_t> bytes, const std::string& pa
         std::filesystem::path p = f.value;
         if (p.is_relative()) p = std::filesystem::path(path).parent_path() / p;
         data_name = p.string();
-        std::ifstream in(p, std::ios::binary);
-        if (!in) throw VolumeError(name, -1, f.line, "data file", "cannot open " + show(p.string()));
-        payload.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+        // Only a regular file of at least the announced size (raw) is read: a directory, a
+        // device such as /dev/zero or a FIFO would throw, read without end, or block.
+        std::error_code ec;
+        const auto st = std::filesystem::status(p, ec);
+        if (ec || !std::filesystem::exists(st))
+            throw VolumeError(name, -1, f.line, "data file", "cannot open " + show(p.string()) + ": no such file");
+        if (!std::filesystem::is_regular_file(st))
+            throw VolumeError(name, -1, f.line, "data file",
+                              show(p.string()) + " is not a regular file (" +
+                                  (std::filesystem::is_directory(st) ? "a directory" : "a device, FIFO or socket") + ")");
+        const std::uintmax_t size = std::filesystem::file_size(p, ec);
+        const std::uint64_t need_bytes = count * static_cast<std::uint64_t>(sample_bytes(type));
+        if (!ec && enc == "raw" && size < need_bytes)
+            throw VolumeError(name, -1, f.line, "data file",
+                              show(p.string()) + " has " + std::to_string(size) + " bytes, the header's " +
+                                  dims_string(int(nx), int(ny), int(nz)) + " samples of " + std::to_string(sample_bytes(type)) +
+                                  " bytes need " + std::to_string(need_bytes));
+        try {
+            payload = read_regular_file(p.string());
+        } catch (const VolumeError& e) {
+            throw VolumeError(name, -1, f.line, "data file", e.what());
+        }
         data_offset = 0;
     } else {
         payload.assign(bytes.begin() + static_cast<std::ptrdiff_t>(pos), bytes.end());
@@ -534,7 +598,7 @@ VolumeData parse_nrrd(std::span<const std::uint8_t> bytes, const std::string& pa
         if (payload.size() < 2 || payload[0] != 0x1f || payload[1] != 0x8b)
             throw VolumeError(data_name, data_offset, 0, "", "encoding is gzip but the data do not start with the gzip magic");
         try {
-            payload = gunzip(payload, data_name);
+            payload = gunzip(payload, data_name, count * static_cast<std::uint64_t>(sample_bytes(type)) + max_trailing_bytes);
         } catch (const VolumeError& e) {
             throw VolumeError(data_name, e.byte_offset() < 0 ? -1 : data_offset + e.byte_offset(), 0, "", e.message());
         }
@@ -558,9 +622,7 @@ VolumeData parse_nrrd(std::span<const std::uint8_t> bytes, const std::string& pa
 }
 
 VolumeData read_nrrd(const std::string& path, const ReadOptions& options) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw VolumeError(path, -1, 0, "", std::string("cannot open: ") + std::strerror(errno));
-    const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::vector<std::uint8_t> bytes = read_regular_file(path);
     return parse_nrrd(bytes, path, options);
 }
 
@@ -569,10 +631,20 @@ VolumeData read_nrrd(const std::string& path, const ReadOptions& options) {
 VolumeData read_raw(const std::string& path, const RawFormat& f, const ReadOptions& options) {
     if (f.nx <= 0 || f.ny <= 0 || f.nz <= 0)
         throw VolumeError(path, -1, 0, "dimensions", "must be positive, found " + dims_string(f.nx, f.ny, f.nz));
+    (void)checked_count(path, f.nx, f.ny, f.nz, 0, "dimensions");  // before reading anything
+    const std::vector<std::uint8_t> raw = read_regular_file(path);
+    return parse_raw(raw, path, f, options);
+}
+
+VolumeData parse_raw(std::span<const std::uint8_t> raw, const std::string& path, const RawFormat& f, const ReadOptions& options) {
+    if (f.nx <= 0 || f.ny <= 0 || f.nz <= 0)
+        throw VolumeError(path, -1, 0, "dimensions", "must be positive, found " + dims_string(f.nx, f.ny, f.nz));
     const std::uint64_t count = checked_count(path, f.nx, f.ny, f.nz, 0, "dimensions");
-    bool gz = false;
-    const std::vector<std::uint8_t> bytes = read_file_bytes(path, &gz);
     const std::uint64_t need = f.header_bytes + count * static_cast<std::uint64_t>(sample_bytes(f.type));
+    const bool gz = raw.size() >= 2 && raw[0] == 0x1f && raw[1] == 0x8b;
+    std::vector<std::uint8_t> inflated;
+    if (gz) inflated = gunzip(raw, path, need + 1);  // decompress no more than needed + 1
+    const std::span<const std::uint8_t> bytes = gz ? std::span<const std::uint8_t>(inflated) : raw;
     if (bytes.size() != need)
         throw VolumeError(path, static_cast<std::int64_t>(std::min<std::uint64_t>(bytes.size(), need)), 0, "dimensions",
                           dims_string(f.nx, f.ny, f.nz) + " samples of " + sample_type_name(f.type) +

@@ -16,6 +16,7 @@ bool ends_with(const std::string& s, const char* suffix) {
 
 /// The first bytes of a file (decompressed if it is gzip), to recognise the format.
 std::string file_start(const std::string& path) {
+    require_regular_file(path);  // a FIFO would block here, a directory read as empty
     std::ifstream in(path, std::ios::binary);
     if (!in) throw VolumeError(path, -1, 0, "", std::string("cannot open: ") + std::strerror(errno));
     char buf[16] = {};

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <limits>
@@ -152,19 +153,41 @@ Progress stderr_progress(std::string label) {
     };
 }
 
-std::vector<std::uint8_t> read_file_bytes(const std::string& path, bool* was_gzip) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw VolumeError(path, -1, 0, "", std::string("cannot open: ") + std::strerror(errno));
-    std::vector<std::uint8_t> raw((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    if (in.bad()) throw VolumeError(path, -1, 0, "", "read error");
-    const bool gz = raw.size() >= 2 && raw[0] == 0x1f && raw[1] == 0x8b;
-    if (was_gzip) *was_gzip = gz;
-    return gz ? gunzip(raw, path) : raw;
+void require_regular_file(const std::string& path) {
+    std::error_code ec;
+    const auto st = std::filesystem::status(path, ec);
+    if (ec || !std::filesystem::exists(st))
+        throw VolumeError(path, -1, 0, "", "cannot open: " + (ec ? ec.message() : std::string("no such file")));
+    if (!std::filesystem::is_regular_file(st))
+        throw VolumeError(path, -1, 0, "",
+                          std::string("not a regular file (") +
+                              (std::filesystem::is_directory(st) ? "a directory" : "a device, FIFO or socket") + ")");
 }
 
-std::vector<std::uint8_t> gunzip(std::span<const std::uint8_t> raw, const std::string& path) {
+std::vector<std::uint8_t> read_regular_file(const std::string& path) {
+    require_regular_file(path);
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw VolumeError(path, -1, 0, "", std::string("cannot open: ") + std::strerror(errno));
+    std::error_code ec;
+    const std::uintmax_t size = std::filesystem::file_size(path, ec);
+    std::vector<std::uint8_t> raw;
+    if (!ec) raw.reserve(static_cast<std::size_t>(size));
+    char buf[1 << 16];
+    while (in.read(buf, sizeof buf) || in.gcount() > 0) raw.insert(raw.end(), buf, buf + in.gcount());
+    if (in.bad()) throw VolumeError(path, -1, 0, "", "read error");
+    return raw;
+}
+
+std::vector<std::uint8_t> read_file_bytes(const std::string& path, bool* was_gzip, std::uint64_t max_bytes) {
+    std::vector<std::uint8_t> raw = read_regular_file(path);
+    const bool gz = raw.size() >= 2 && raw[0] == 0x1f && raw[1] == 0x8b;
+    if (was_gzip) *was_gzip = gz;
+    return gz ? gunzip(raw, path, max_bytes) : raw;
+}
+
+std::vector<std::uint8_t> gunzip(std::span<const std::uint8_t> raw, const std::string& path, std::uint64_t max_bytes, bool prefix) {
     std::vector<std::uint8_t> out;
-    out.reserve(raw.size() * 4);
+    out.reserve(static_cast<std::size_t>(std::min<std::uint64_t>(raw.size() * 4, max_bytes)));
     z_stream zs{};
     if (inflateInit2(&zs, 15 + 16) != Z_OK) throw VolumeError(path, -1, 0, "", "zlib initialisation failed");
     std::unique_ptr<z_stream, void (*)(z_stream*)> guard(&zs, [](z_stream* z) { inflateEnd(z); });
@@ -192,13 +215,23 @@ std::vector<std::uint8_t> gunzip(std::span<const std::uint8_t> raw, const std::s
                                   std::string("corrupt gzip stream (") + (zs.msg ? zs.msg : "zlib error") +
                                       "; compressed offset, " + std::to_string(out.size()) + " bytes decompressed)");
             }
-            out.insert(out.end(), buf, buf + (sizeof buf - zs.avail_out));
+            const std::size_t got = sizeof buf - zs.avail_out;
+            if (out.size() + got > max_bytes) {
+                if (prefix) {
+                    out.insert(out.end(), buf, buf + (max_bytes - out.size()));
+                    return out;
+                }
+                throw VolumeError(path, -1, 0, "",
+                                  "decompresses to more than " + std::to_string(max_bytes) +
+                                      " bytes, the most this file may hold (a gzip bomb, or data that do not match the header)");
+            }
+            out.insert(out.end(), buf, buf + got);
         } while (rc == Z_OK && (zs.avail_in > 0 || zs.avail_out == 0));
         pos = static_cast<std::size_t>(zs.next_in - raw.data());
         member_done = rc == Z_STREAM_END;
         if (!member_done && pos >= raw.size()) break;
     }
-    if (!member_done)
+    if (!member_done && !prefix)
         throw VolumeError(path, static_cast<std::int64_t>(raw.size()), 0, "",
                           "gzip stream truncated (the compressed file ends after " + std::to_string(out.size()) +
                               " decompressed bytes)");

@@ -424,7 +424,7 @@ TEST_CASE("randomly corrupted scene text never crashes: it loads or throws Parse
 
 TEST_CASE("options.environment: a file relative to the scene or the procedural sky, a reflectivity in [0, 1]") {
     TempDir dir;
-    dir.write("sky.png", "not read by the loader");
+    dir.write("sky.png", std::string("\x89PNG\r\n\x1a\n", 8) + "the rest is not read by the loader");
     Scene s = parse(R"({"objects": [], "options": {"environment": {"file": "sky.png", "reflectivity": 0.5}}})", dir.path);
     CHECK(s.options.environment == Options::Environment::file);
     CHECK(s.options.environment_file == (dir.path / "sky.png").lexically_normal());

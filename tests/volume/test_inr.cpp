@@ -158,7 +158,8 @@ TEST_CASE("corrupt INR headers name the header line and the field") {
         {"XDIM=2\nYDIM=2\nZDIM=2\nXDIM=3\nTYPE=float\nPIXSIZE=32 bits\n", 5, "XDIM", "given twice (first on header line 2)"},
         {"XDIM=2\nYDIM=2\nZDIM=2\nTYPE=float\nPIXSIZE=32 bits\nVX=-1\n", 7, "VX", "expected a positive finite number, found '-1'"},
         {"XDIM=2\nYDIM=2\nZDIM 2\nTYPE=float\nPIXSIZE=32 bits\n", 4, "", "expected KEY=VALUE, found 'ZDIM 2'"},
-        {"XDIM=99999999\nYDIM=99999999\nZDIM=99999999\nTYPE=float\nPIXSIZE=32 bits\n", 2, "XDIM", "dimensions 99999999x99999999x99999999 are too large (more than 2^34 samples)"},
+        {"XDIM=99999999\nYDIM=99999999\nZDIM=99999999\nTYPE=float\nPIXSIZE=32 bits\n", 2, "XDIM", "dimensions 99999999x99999999x99999999 are too large (more than 2^24 = 16777216 samples along an axis)"},
+        {"XDIM=16777216\nYDIM=16777216\nZDIM=2\nTYPE=float\nPIXSIZE=32 bits\n", 2, "XDIM", "dimensions 16777216x16777216x2 are too large (more than 2^34 samples in all)"},
     };
     for (const Case& c : cases) {
         CAPTURE(c.fields);

@@ -32,8 +32,7 @@ struct RenderArgs {
 
 int write_outputs(const RenderArgs& a, const render::Image& img) {
     try {
-        render::write_png(a.output, img);
-        if (!a.depth.empty()) render::write_pfm(a.depth, img);
+        render::write_png_and_pfm(a.output, a.depth, img);
     } catch (const std::exception& e) {
         std::cerr << "quadcast render: " << e.what() << "\n";
         return 1;
@@ -47,6 +46,11 @@ scene::Aabb volume_box(const scene::Volume& v) {
     req.input = v.input;
     req.size = v.size;
     const volume::VolumeData d = volume::load_volume(req);
+    try {
+        volume::check_isovalue(d, v.iso);
+    } catch (const volume::VolumeError& e) {
+        throw scene::ParseError(v.iso_where, e.message() + " of '" + d.source + "'");
+    }
     scene::Aabb b;
     b.extend(d.origin);
     b.extend(d.origin + cmul(d.spacing, scene::Vec3d{{double(d.nx() - 1), double(d.ny() - 1), double(d.nz() - 1)}}));
@@ -64,7 +68,11 @@ std::vector<render::VolumeModel> prepare_volumes(const scene::Scene& sc, bool cp
         req.size = v.size;
         const volume::VolumeData d = volume::load_volume(req);
         for (const auto& w : d.warnings) std::cerr << w << "\n";
-        volume::check_isovalue(d, v.iso);
+        try {
+            volume::check_isovalue(d, v.iso);
+        } catch (const volume::VolumeError& e) {
+            throw std::runtime_error(scene::format_location(v.iso_where) + e.message() + " of '" + d.source + "'");
+        }
         const render::VolumeScheme scheme = v.scheme == scene::Volume::Scheme::s31         ? render::VolumeScheme::s31
                                             : v.scheme == scene::Volume::Scheme::trilinear ? render::VolumeScheme::trilinear
                                                                                            : render::VolumeScheme::qss;
@@ -103,6 +111,13 @@ render::Image render_scene_cpu(const render::Frame& fr, const std::vector<render
 }
 
 int run_render(const RenderArgs& a) {
+    // Output paths first: a render that cannot be written is not started.
+    try {
+        render::check_output_paths(a.output, a.depth);
+    } catch (const std::exception& e) {
+        std::cerr << "quadcast render: " << e.what() << "\n";
+        return 1;
+    }
     scene::Scene sc;
     scene::set_volume_box_function(volume_box);
     try {
@@ -110,9 +125,21 @@ int run_render(const RenderArgs& a) {
     } catch (const scene::ParseError& e) {
         std::cerr << e.what() << "\n";
         return 1;
+    } catch (const std::bad_alloc&) {
+        std::cerr << a.scene << ": out of memory while loading the scene\n";
+        return 1;
     }
     for (const auto& w : sc.warnings) std::cerr << w.to_string() << "\n";
-    render::Frame fr = render::build_frame(sc, a.width, a.height);
+    render::Frame fr;
+    try {
+        fr = render::build_frame(sc, a.width, a.height);
+    } catch (const std::bad_alloc&) {
+        std::cerr << "quadcast render: " << a.scene << ": out of memory while building the frame\n";
+        return 1;
+    } catch (const std::exception& e) {
+        std::cerr << "quadcast render: " << a.scene << ": " << e.what() << "\n";
+        return 1;
+    }
     for (const auto& n : fr.notes) std::cerr << a.scene << ": note: " << n << "\n";
     std::vector<render::VolumeModel> volumes;
     try {
@@ -121,6 +148,9 @@ int run_render(const RenderArgs& a) {
         if (!volumes.empty())
             std::fprintf(stderr, "%s: %zu volume(s) prepared in %.1f ms, %zu active cubes\n", a.scene.c_str(), volumes.size(),
                          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count(), active_cubes(volumes));
+    } catch (const std::bad_alloc&) {
+        std::cerr << "quadcast render: " << a.scene << ": out of memory while preparing the volumes\n";
+        return 1;
     } catch (const std::exception& e) {
         std::cerr << "quadcast render: " << e.what() << "\n";
         return 1;

@@ -74,6 +74,9 @@ void add_volume_info(CLI::App& app) {
                 volume::write_inr(opt->write_inr, v, volume::SampleType::f32, volume::Endian::little, gz);
                 std::printf("wrote %s\n", opt->write_inr.c_str());
             }
+        } catch (const std::bad_alloc&) {
+            std::cerr << "quadcast volume-info: " << opt->request.input << ": out of memory while loading the volume\n";
+            throw CLI::RuntimeError(2);
         } catch (const std::exception& e) {
             std::cerr << "quadcast volume-info: " << e.what() << "\n";
             throw CLI::RuntimeError(2);

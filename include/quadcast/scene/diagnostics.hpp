@@ -3,6 +3,7 @@
 
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace quadcast::scene {
@@ -37,6 +38,26 @@ private:
     Location where_;
     std::string message_;
 };
+
+/// Every error of one input, sorted by position (file order), the first `max_reported` of them
+/// in `what()` (one per line, then "... and N more errors"). As a ParseError it is the first
+/// error, so code that wants one location gets the first in the file.
+class ParseErrors : public ParseError {
+public:
+    static constexpr std::size_t max_reported = 20;
+    explicit ParseErrors(std::vector<ParseError> errors);
+    const std::vector<ParseError>& errors() const noexcept { return errors_; }
+    const char* what() const noexcept override { return text_.c_str(); }
+
+private:
+    std::vector<ParseError> errors_;
+    std::string text_;
+};
+
+/// `text` quoted for a message, cut to `max_token_chars` characters plus "..." (a 1 MB token
+/// gives a short message, not a 1 MB one).
+inline constexpr std::size_t max_token_chars = 64;
+std::string quote_token(std::string_view text);
 
 /// A problem handled in a documented way (a record skipped, a default used). Readers collect
 /// them; the command prints them to stderr with `to_string()`.

@@ -9,6 +9,7 @@
 //     scene.json:14:23: /objects/3/sphere/radius: expected a number > 0, got -1
 
 #include <cstddef>
+#include <cstdint>
 #include <initializer_list>
 #include <memory>
 #include <optional>
@@ -26,11 +27,29 @@ namespace quadcast::scene {
 
 using Json = nlohmann::ordered_json;
 
+/// Deepest nesting of arrays and objects accepted in a JSON text (the README's "Limits"): the
+/// position scanner recurses once per level, so deeper texts are an error at the first bracket
+/// too many, before any parsing.
+inline constexpr int max_json_depth = 256;
+
 struct TextPosition {
     int line = 0, column = 0;  ///< 1-based; column counts characters (UTF-8 code points)
 };
 
 class JsonNode;
+
+/// Positions of the values (and keys) of a JSON text: node 0 is the root; `children` maps
+/// (parent id, escaped key or array index) to a node id.
+struct PositionTree {
+    struct Node {
+        TextPosition value, key;
+    };
+    std::vector<Node> nodes;
+    std::unordered_map<std::string, std::uint32_t> children;
+    static std::string child_key(std::uint32_t parent, std::string_view segment);
+    /// The JSON pointer of a node (slow; for messages).
+    std::string pointer(std::uint32_t node) const;
+};
 
 /// A parsed JSON text with the position of every value and key.
 class JsonDocument {
@@ -49,7 +68,7 @@ private:
     std::string file_;
     std::string text_;
     Json json_;
-    std::unordered_map<std::string, TextPosition> values_, keys_;
+    PositionTree tree_;
     friend class JsonNode;
 };
 

@@ -38,7 +38,10 @@
 // for every pair except two HETATM atoms that both appear in CONECT records (their bonds are
 // taken from CONECT alone, so ligands keep their given topology). Disulfides between ATOM
 // records are found by both. Neighbours are searched in a uniform hash grid of cell size
-// 2 * 1.15 * max r_cov, so the cost is O(n) for molecules.
+// 2 * 1.15 * max r_cov, so the cost is O(n) for molecules. Limits (ParseError naming the atom's
+// line): more than max_bonds_per_atom atoms within bonding distance of one atom (closer than
+// 0.4 A included), or more than max_atoms_per_cell atoms in one grid cell -- no molecule comes
+// near either, and both keep absurd inputs (thousands of atoms at one point) linear.
 
 #include <cstdint>
 #include <filesystem>
@@ -86,6 +89,11 @@ struct PdbOptions {
 Molecule parse_pdb(std::istream& in, const std::string& file_name, const PdbOptions& options = {});
 /// Opens and parses a file (ParseError if it cannot be opened).
 Molecule read_pdb(const std::filesystem::path& path, const PdbOptions& options = {});
+
+/// Most atoms within bonding distance of one atom (a covalent atom has at most 6-8 bonds).
+inline constexpr int max_bonds_per_atom = 16;
+/// Most atoms in one cell of the neighbour grid (a cube of two bond lengths).
+inline constexpr std::size_t max_atoms_per_cell = 256;
 
 /// Adds distance-rule bonds to the CONECT bonds (see above); sorts and deduplicates `bonds`.
 void compute_bonds(Molecule& m);

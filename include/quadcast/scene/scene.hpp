@@ -188,6 +188,7 @@ struct Volume {
     bool synthetic = false;
     int size = 0;            ///< synthetic: samples per axis (0 = the generator's default)
     double iso = 0.0;
+    Location iso_where;      ///< where "iso" was written (for a range error found when the data are read)
     Scheme scheme = Scheme::qss;
     Material material;
     Aabb box;

@@ -18,6 +18,7 @@
 //     }
 //     {"volume", {"iso", "scheme"}, load_volume},
 
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <string_view>
@@ -28,7 +29,12 @@
 
 namespace quadcast::scene {
 
-/// Reads and validates a scene file. Throws ParseError.
+/// Largest scene file accepted (the README's "Limits"): the JSON document takes about 20 times
+/// the text's size in memory.
+inline constexpr std::uintmax_t max_scene_file_bytes = std::uintmax_t(64) << 20;
+
+/// Reads and validates a scene file. Throws ParseErrors (every error found, in file order; as a
+/// ParseError it is the first), or ParseError when the file cannot be read or parsed as JSON.
 Scene load_scene(const std::filesystem::path& path);
 
 /// Same from text: `file_name` is used in messages, `base_dir` resolves relative paths.

@@ -52,6 +52,10 @@ struct ReadOptions {
 
 /// Parses an INR image from its (decompressed) bytes; `name` is used in messages.
 VolumeData parse_inr(std::span<const std::uint8_t> bytes, const std::string& name, const ReadOptions& options = {});
+/// Parses the bytes of an .inr or .inr.gz file (gzip detected by content), decompressing no
+/// more than the header announces (+ max_trailing_bytes) and never more than `max_bytes`.
+VolumeData parse_inr_file(std::span<const std::uint8_t> file_bytes, const std::string& name, const ReadOptions& options = {},
+                          std::uint64_t max_bytes = max_decompressed_bytes);
 /// Reads an .inr or .inr.gz file.
 VolumeData read_inr(const std::string& path, const ReadOptions& options = {});
 
@@ -76,6 +80,10 @@ struct RawFormat {
     Vec3d spacing{{1.0, 1.0, 1.0}};
 };
 
+/// Parses the bytes of a raw file (gzip-compressed ones are decompressed first, no further than
+/// the size the format needs).
+VolumeData parse_raw(std::span<const std::uint8_t> file_bytes, const std::string& path, const RawFormat& format,
+                     const ReadOptions& options = {});
 /// Reads raw samples (gzip-compressed raw files are decompressed first).
 VolumeData read_raw(const std::string& path, const RawFormat& format, const ReadOptions& options = {});
 

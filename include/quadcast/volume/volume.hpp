@@ -100,15 +100,32 @@ using Progress = std::function<void(double)>;
 /// the line is rewritten in place; otherwise one line per 10%), and a final `label: 100% (T s)`.
 Progress stderr_progress(std::string label);
 
+/// Largest decompressed size of a gzip input (the README's "Limits"). Readers whose header
+/// gives the size (INR, NRRD, raw) stop at that size plus max_trailing_bytes instead.
+inline constexpr std::uint64_t max_decompressed_bytes = std::uint64_t(4) << 30;
+/// Extra decompressed bytes tolerated after the samples a header announces.
+inline constexpr std::uint64_t max_trailing_bytes = std::uint64_t(1) << 20;
+
 /// The whole content of a file. Files starting with the gzip magic (1f 8b) are decompressed
 /// (zlib, concatenated members allowed), so readers see the decompressed bytes and byte
 /// offsets in their errors count those. Errors (VolumeError): cannot open; corrupt or truncated
 /// gzip stream (with the compressed byte offset where zlib failed).
-std::vector<std::uint8_t> read_file_bytes(const std::string& path, bool* was_gzip = nullptr);
+/// Only regular files are read (a directory, device or FIFO is an error before anything is
+/// read), and decompression stops with an error beyond `max_bytes`.
+std::vector<std::uint8_t> read_file_bytes(const std::string& path, bool* was_gzip = nullptr,
+                                          std::uint64_t max_bytes = max_decompressed_bytes);
+
+/// The bytes of a regular file, not decompressed (VolumeError for anything else: a directory,
+/// a device, a FIFO, a file that cannot be opened or read).
+std::vector<std::uint8_t> read_regular_file(const std::string& path);
+/// Throws VolumeError(`path`) unless `path` names an existing regular file.
+void require_regular_file(const std::string& path);
 
 /// Decompresses gzip data (concatenated members allowed; trailing zero bytes ignored). Errors
-/// name `path` and the compressed byte offset where zlib failed.
-std::vector<std::uint8_t> gunzip(std::span<const std::uint8_t> compressed, const std::string& path);
+/// name `path` and the compressed byte offset where zlib failed. More than `max_bytes` of output
+/// is an error, or, with `prefix`, the first `max_bytes` are returned (to read a header).
+std::vector<std::uint8_t> gunzip(std::span<const std::uint8_t> compressed, const std::string& path,
+                                 std::uint64_t max_bytes = max_decompressed_bytes, bool prefix = false);
 
 /// Converts `count` samples of type `type` and byte order `endian` starting at `data` to float
 /// (integers exactly up to 2^24, float64 rounded to nearest).
