@@ -6,6 +6,7 @@
 #include <cerrno>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <map>
@@ -310,9 +311,11 @@ void compute_bonds(Molecule& m) {
         in_cell.push_back({c, int(i)});
         // A grid cell is a cube of two bond lengths: real matter puts a few dozen atoms in it.
         // Absurd densities (thousands of atoms at one point) would make the search quadratic.
-        if (in_cell.size() > max_atoms_per_cell)
-            crowded(i, "more than " + std::to_string(max_atoms_per_cell) + " atoms within a cube of " +
-                           std::to_string(cell) + " A side");
+        if (in_cell.size() > max_atoms_per_cell) {
+            char side[32];
+            std::snprintf(side, sizeof side, "%.3g", cell);
+            crowded(i, "more than " + std::to_string(max_atoms_per_cell) + " atoms within a cube of " + side + " A side");
+        }
     }
     // Atoms within bonding distance of each atom (closer than 0.4 A included): more than
     // max_bonds_per_atom is an error, found before the bond list grows quadratically.
