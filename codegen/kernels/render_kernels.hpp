@@ -11,12 +11,12 @@
 
 namespace quadcast::codegen::kernels {
 
-/// Reads a QuadricPrimitive's fields as kernel inputs (the fragment stage reads them from the
+/// Reads a ClippedQuadric's fields as kernel inputs (the fragment stage reads them from the
 /// primitive's record); the slab variants also read the caps, the planes variants the planes.
 template <bool Planes = false, bool Slab = false, class IO>
-QuadricPrimitive<typename IO::T> primitive_inputs(IO& io) {
+ClippedQuadric<typename IO::T> primitive_inputs(IO& io) {
     using T = typename IO::T;
-    QuadricPrimitive<T> p{};
+    ClippedQuadric<T> p{};
     p.q = Quadric<T>{io.template mat<4>("q")};
     p.center = io.template vec<3>("center");
     p.radius = io.scalar("radius");
@@ -92,7 +92,7 @@ struct PrimitiveVertexKernel {
     static constexpr const char* summary = "incremental ray casting: the ray terms at a corner of the bounding quad";
     template <class IO> static void run(IO& io) {
         using T = typename IO::T;
-        const QuadricPrimitive<T> p = primitive_inputs(io);
+        const ClippedQuadric<T> p = primitive_inputs(io);
         const Vec3<T> corner = io.template vec<3>("corner_view");
         const Mat3<T> rot_inv = io.template mat<3>("view_rot_inv");
         const Vec3<T> eye = io.template vec<3>("eye");
@@ -151,7 +151,7 @@ struct FragmentCastKernel {
     static constexpr const char* summary = "incremental ray casting: a fragment's hit, depth and normal (Stoll et al. 2006, sec. 5)";
     template <class IO> static void run(IO& io) {
         using T = typename IO::T;
-        const QuadricPrimitive<T> p = primitive_inputs<Opt.planes, Opt.slab>(io);
+        const ClippedQuadric<T> p = primitive_inputs<Opt.planes, Opt.slab>(io);
         const LocalRay<T> r{io.template vec<3>("o"), io.template vec<3>("v"), io.template vec<3>("g"), io.template vec<3>("a")};
         const Vec3<T> vz_row = io.template vec<3>("vz_row");
         const Vec4<T> pz = io.template vec<4>("pz");
@@ -217,7 +217,7 @@ struct FragmentSphereKernel {
     static constexpr const char* summary = "incremental ray casting of a sphere in closed form: a fragment's hit, depth and normal";
     template <class IO> static void run(IO& io) {
         using T = typename IO::T;
-        QuadricPrimitive<T> p{};
+        ClippedQuadric<T> p{};
         p.radius = io.scalar("radius");
         const LocalRay<T> r{io.template vec<3>("o"), io.template vec<3>("v"), Vec3<T>{}, Vec3<T>{}};
         const Vec3<T> vz_row = io.template vec<3>("vz_row");
@@ -432,7 +432,7 @@ struct FragmentBruteKernel {
     static constexpr const char* summary = "brute-force ray casting: a fragment's local ray, hit, depth and normal";
     template <class IO> static void run(IO& io) {
         using T = typename IO::T;
-        const QuadricPrimitive<T> p = primitive_inputs<Opt.planes, Opt.slab>(io);
+        const ClippedQuadric<T> p = primitive_inputs<Opt.planes, Opt.slab>(io);
         const Vec3<T> origin = io.template vec<3>("origin");
         const Vec3<T> dir = io.template vec<3>("dir");
         const Vec3<T> vz_row = io.template vec<3>("vz_row");

@@ -252,7 +252,7 @@ ScreenBox<T> slab_bbox(const Mat4<T>& pmt, const Vec4<T>& d, const Vec2<T>& slab
 /// `sigg_bbox` for ellipsoids, `slab_bbox` (caps, plus the silhouette for non-ruled kinds)
 /// otherwise. Dispatches on the host-side kind.
 template <class T>
-ScreenBox<T> primitive_bbox(const Mat4<T>& pmt, const Primitive<T>& prim) {
+ScreenBox<T> primitive_bbox(const Mat4<T>& pmt, const ParameterForm<T>& prim) {
     if (!is_clipped(prim.kind)) return sigg_bbox(pmt, prim.d);
     return slab_bbox(pmt, prim.d, prim.slab, !is_ruled(prim.kind));
 }

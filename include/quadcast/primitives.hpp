@@ -68,9 +68,10 @@ constexpr bool is_ruled(PrimitiveKind k) {
 /// True when T is projective (its last row is not (0, 0, 0, 1)): only the paraboloid.
 constexpr bool is_projective(PrimitiveKind k) { return k == PrimitiveKind::paraboloid; }
 
-/// A quadric primitive in Sigg's parameter-space form (Sigg et al. 2006, eq. 1-2).
+/// A quadric primitive in Sigg's parameter-space form (Sigg et al. 2006, eq. 1-2): a renderer draws
+/// it as a render::Primitive (quadcast/shapes.hpp builds one).
 template <class T>
-struct Primitive {
+struct ParameterForm {
     PrimitiveKind kind;  ///< class of the primitive (host-side tag)
     Vec4<T> d;           ///< diagonal of D, entries 0, +1 or -1
     Mat4<T> t;           ///< variance matrix T: object = T * parameter (columns u, v, w, c)
@@ -109,21 +110,21 @@ void orthonormal_basis(const Vec3<T>& n, Vec3<T>& b1, Vec3<T>& b2) {
 /// Ellipsoid with centre `c` and semi-axes `u`, `v`, `w` (need not be orthogonal):
 /// x = c + X u + Y v + Z w with X^2 + Y^2 + Z^2 = 1. Sigg et al. 2006, eq. 2.
 template <class T>
-Primitive<T> ellipsoid(const Vec3<T>& c, const Vec3<T>& u, const Vec3<T>& v, const Vec3<T>& w) {
+ParameterForm<T> ellipsoid(const Vec3<T>& c, const Vec3<T>& u, const Vec3<T>& v, const Vec3<T>& w) {
     return {PrimitiveKind::ellipsoid, vec4(T(1), T(1), T(1), T(-1)), detail::affine_columns(u, v, w, c),
             vec2(T(-1), T(1))};
 }
 
 /// Sphere with centre `c` and radius `r`: T = diag(r, r, r) with centre c.
 template <class T>
-Primitive<T> sphere(const Vec3<T>& c, T r) {
+ParameterForm<T> sphere(const Vec3<T>& c, T r) {
     return ellipsoid(c, vec3(r, T(0), T(0)), vec3(T(0), r, T(0)), vec3(T(0), T(0), r));
 }
 
 /// Elliptic cylinder around the segment c - w .. c + w with cross-section semi-axes `u`, `v`:
 /// D = (1, 1, 0, -1), clipped to -1 <= z <= 1 (the caps are the ellipses c +- w + cos u + sin v).
 template <class T>
-Primitive<T> elliptic_cylinder(const Vec3<T>& c, const Vec3<T>& u, const Vec3<T>& v, const Vec3<T>& w) {
+ParameterForm<T> elliptic_cylinder(const Vec3<T>& c, const Vec3<T>& u, const Vec3<T>& v, const Vec3<T>& w) {
     return {PrimitiveKind::cylinder, vec4(T(1), T(1), T(0), T(-1)), detail::affine_columns(u, v, w, c),
             vec2(T(-1), T(1))};
 }
@@ -132,7 +133,7 @@ Primitive<T> elliptic_cylinder(const Vec3<T>& c, const Vec3<T>& u, const Vec3<T>
 /// w = (p1 - p0) / 2, c = (p0 + p1) / 2, u and v = r times an orthonormal basis of w's normal plane.
 /// Numerics: c = (p0 + p1) * 0.5, w = (p1 - p0) * 0.5, axis direction = w / |w|.
 template <class T>
-Primitive<T> cylinder(const Vec3<T>& p0, const Vec3<T>& p1, T r) {
+ParameterForm<T> cylinder(const Vec3<T>& p0, const Vec3<T>& p1, T r) {
     // Build the axis and a basis of the cross-section plane
     const Vec3<T> w = (p1 - p0) * T(0.5);
     const Vec3<T> c = (p0 + p1) * T(0.5);
@@ -144,7 +145,7 @@ Primitive<T> cylinder(const Vec3<T>& p0, const Vec3<T>& p1, T r) {
 /// Elliptic cone with apex `apex` and base ellipse apex + w + cos u + sin v:
 /// D = (1, 1, -1, 0), T = [u v w apex], clipped to 0 <= z <= 1.
 template <class T>
-Primitive<T> elliptic_cone(const Vec3<T>& apex, const Vec3<T>& u, const Vec3<T>& v, const Vec3<T>& w) {
+ParameterForm<T> elliptic_cone(const Vec3<T>& apex, const Vec3<T>& u, const Vec3<T>& v, const Vec3<T>& w) {
     return {PrimitiveKind::cone, vec4(T(1), T(1), T(-1), T(0)), detail::affine_columns(u, v, w, apex),
             vec2(T(0), T(1))};
 }
@@ -153,7 +154,7 @@ Primitive<T> elliptic_cone(const Vec3<T>& apex, const Vec3<T>& u, const Vec3<T>&
 /// For a half-angle a, base_radius = |base_center - apex| * tan(a) (computed by the caller:
 /// shared code has no trigonometry).
 template <class T>
-Primitive<T> cone(const Vec3<T>& apex, const Vec3<T>& base_center, T base_radius) {
+ParameterForm<T> cone(const Vec3<T>& apex, const Vec3<T>& base_center, T base_radius) {
     // Build the axis and a basis of the base plane
     const Vec3<T> w = base_center - apex;
     Vec3<T> b1{}, b2{};
@@ -174,7 +175,7 @@ Primitive<T> cone(const Vec3<T>& apex, const Vec3<T>& base_center, T base_radius
 /// Numerics: the columns w - vertex and w + vertex are rounded once each; far from the origin
 /// this costs relative precision |vertex| / |w| of the shape (like any object-space position).
 template <class T>
-Primitive<T> paraboloid(const Vec3<T>& vertex, const Vec3<T>& u, const Vec3<T>& v, const Vec3<T>& w) {
+ParameterForm<T> paraboloid(const Vec3<T>& vertex, const Vec3<T>& u, const Vec3<T>& v, const Vec3<T>& w) {
     Mat4<T> t{};
     t[0] = vec4(u, T(0));
     t[1] = vec4(v, T(0));
@@ -185,7 +186,7 @@ Primitive<T> paraboloid(const Vec3<T>& vertex, const Vec3<T>& u, const Vec3<T>& 
 
 /// Circular paraboloid from `vertex` to the rim circle of radius `rim_radius` around `rim_center`.
 template <class T>
-Primitive<T> paraboloid(const Vec3<T>& vertex, const Vec3<T>& rim_center, T rim_radius) {
+ParameterForm<T> paraboloid(const Vec3<T>& vertex, const Vec3<T>& rim_center, T rim_radius) {
     // Build the axis and a basis of the rim plane
     const Vec3<T> w = rim_center - vertex;
     Vec3<T> b1{}, b2{};
@@ -197,7 +198,7 @@ Primitive<T> paraboloid(const Vec3<T>& vertex, const Vec3<T>& rim_center, T rim_
 /// and axis w, clipped to -half_height <= z <= half_height (half_height = 1: unit-cube slab;
 /// the caps are then the ellipses c +- w + sqrt(2) (cos u + sin v)). D = (1, 1, -1, -1).
 template <class T>
-Primitive<T> hyperboloid_one_sheet(const Vec3<T>& c, const Vec3<T>& u, const Vec3<T>& v, const Vec3<T>& w,
+ParameterForm<T> hyperboloid_one_sheet(const Vec3<T>& c, const Vec3<T>& u, const Vec3<T>& v, const Vec3<T>& w,
                                    T half_height) {
     return {PrimitiveKind::hyperboloid_one_sheet, vec4(T(1), T(1), T(-1), T(-1)),
             detail::affine_columns(u, v, w, c), vec2(-half_height, half_height)};
@@ -207,7 +208,7 @@ Primitive<T> hyperboloid_one_sheet(const Vec3<T>& c, const Vec3<T>& u, const Vec
 /// z_lo <= z <= z_hi (e.g. [1, h] for one sheet, [-h, h] for both). D = (1, 1, -1, 1).
 /// Bounds treat a slab end with |z| < 1 as the point (0, 0, z) (conservative): prefer |z| >= 1.
 template <class T>
-Primitive<T> hyperboloid_two_sheets(const Vec3<T>& c, const Vec3<T>& u, const Vec3<T>& v, const Vec3<T>& w,
+ParameterForm<T> hyperboloid_two_sheets(const Vec3<T>& c, const Vec3<T>& u, const Vec3<T>& v, const Vec3<T>& w,
                                     T z_lo, T z_hi) {
     return {PrimitiveKind::hyperboloid_two_sheets, vec4(T(1), T(1), T(-1), T(1)),
             detail::affine_columns(u, v, w, c), vec2(z_lo, z_hi)};
@@ -227,7 +228,7 @@ T section_radius2(const Vec4<T>& d, const T& z) {
 /// Numerics: A's columns (T2 + T3) * 0.5 and (T3 - T2) * 0.5; row 2 of K A^-1 is
 /// (a2 - a3) * 0.5 and row 3 is (a2 + a3) * 0.5, a_i the rows of A^-1.
 template <class T>
-Mat4<T> inverse_variance(const Primitive<T>& prim) {
+Mat4<T> inverse_variance(const ParameterForm<T>& prim) {
     // Recover the affine frame A (equal to T unless T is projective)
     Mat4<T> a = prim.t;
     if (is_projective(prim.kind)) {
@@ -273,7 +274,7 @@ Quadric<T> quadric_from_inverse(const Vec4<T>& d, const Mat4<T>& t_inv) {
 
 /// Conic matrix of `prim` in object coordinates: `quadric_from_inverse(d, inverse_variance(prim))`.
 template <class T>
-Quadric<T> to_quadric(const Primitive<T>& prim) {
+Quadric<T> to_quadric(const ParameterForm<T>& prim) {
     return quadric_from_inverse(prim.d, inverse_variance(prim));
 }
 

@@ -35,7 +35,7 @@ inline Mat4<double> from_eigen(const Eigen::Matrix4d& m) {
 /// Conic matrix Q = T^-T D T^-1 (Sigg et al. 2006, eq. 1) in double, T^-1 by Eigen's
 /// full-pivoting LU. Works for projective T (paraboloids). Throws std::invalid_argument when T
 /// is singular or not finite.
-inline Quadric<double> to_quadric(const Vec4<double>& d, const Mat4<double>& t) {
+inline Quadric<double> quadric_from_form(const Vec4<double>& d, const Mat4<double>& t) {
     const Eigen::Matrix4d te = to_eigen(t);
     if (!te.allFinite()) throw std::invalid_argument("variance matrix T has a NaN or infinite entry");
     const Eigen::FullPivLU<Eigen::Matrix4d> lu(te);
@@ -47,15 +47,15 @@ inline Quadric<double> to_quadric(const Vec4<double>& d, const Mat4<double>& t) 
     return {from_eigen(q)};
 }
 
-/// `to_quadric(prim.d, prim.t)` for a primitive of any scalar type (converted to double).
+/// `quadric_from_form(prim.d, prim.t)` for a primitive of any scalar type (converted to double).
 template <class T>
-Quadric<double> to_quadric(const Primitive<T>& prim) {
-    return to_quadric(cast<double>(prim.d), cast<double>(prim.t));
+Quadric<double> quadric_from_form(const ParameterForm<T>& prim) {
+    return quadric_from_form(cast<double>(prim.d), cast<double>(prim.t));
 }
 
 /// A quadric put into parameter-space form: Q = scale * T^-T D T^-1.
 struct Decomposition {
-    Primitive<double> prim;  ///< kind, D, T; the slab is the kind's default (set it yourself)
+    ParameterForm<double> prim;  ///< kind, D, T; the slab is the kind's default (set it yourself)
     double scale;            ///< nonzero, may be negative
 };
 
@@ -138,7 +138,7 @@ inline DecomposeResult decompose_quadric(const Quadric<double>& q_in, double rel
                 dsign[i] = sigma * sgn[i];
             }
             order_axes(dsign, axes);
-            Primitive<double> p = elliptic_cone(v3(m), v3(axes[0]), v3(axes[1]), v3(axes[2]));
+            ParameterForm<double> p = elliptic_cone(v3(m), v3(axes[0]), v3(axes[1]), v3(axes[2]));
             p.slab = vec2(-1.0, 1.0);
             return {Decomposition{p, s0 * sigma}, {}};
         }
@@ -156,7 +156,7 @@ inline DecomposeResult decompose_quadric(const Quadric<double>& q_in, double rel
         const int d3 = sigma * s4[3];
         int nneg = 0;
         for (int i = 0; i < 3; ++i) nneg += dsign[i] < 0;
-        Primitive<double> p{};
+        ParameterForm<double> p{};
         if (nneg == 0) p = ellipsoid(v3(m), v3(axes[0]), v3(axes[1]), v3(axes[2]));
         else if (d3 < 0) p = hyperboloid_one_sheet(v3(m), v3(axes[0]), v3(axes[1]), v3(axes[2]), 1.0);
         else p = hyperboloid_two_sheets(v3(m), v3(axes[0]), v3(axes[1]), v3(axes[2]), -2.0, 2.0);
@@ -185,7 +185,7 @@ inline DecomposeResult decompose_quadric(const Quadric<double>& q_in, double rel
                                        n * (-1.0 / (2.0 * sigma * beta))};
             if (axes[0].cross(axes[1]).dot(axes[2]) < 0) axes[0] = -axes[0];
             const Eigen::Vector3d vertex = m0 - n * (c0 / (2.0 * beta));
-            const Primitive<double> p = paraboloid(v3(vertex), v3(axes[0]), v3(axes[1]), v3(axes[2]));
+            const ParameterForm<double> p = paraboloid(v3(vertex), v3(axes[0]), v3(axes[1]), v3(axes[2]));
             return {Decomposition{p, s0 * sigma}, {}};
         }
         if (!same) {
@@ -200,7 +200,7 @@ inline DecomposeResult decompose_quadric(const Quadric<double>& q_in, double rel
         Eigen::Vector3d axes[3] = {vec.col(i0) * std::sqrt(std::abs(c0 / lam[i0])),
                                    vec.col(i1) * std::sqrt(std::abs(c0 / lam[i1])), n};
         if (axes[0].cross(axes[1]).dot(axes[2]) < 0) axes[0] = -axes[0];
-        const Primitive<double> p = elliptic_cylinder(v3(m0), v3(axes[0]), v3(axes[1]), v3(axes[2]));
+        const ParameterForm<double> p = elliptic_cylinder(v3(m0), v3(axes[0]), v3(axes[1]), v3(axes[2]));
         return {Decomposition{p, s0 * sigma * std::abs(c0)}, {}};
     }
     return fail("degenerate quadric: rank of the quadratic part is 1 (parabolic cylinder or parallel planes)");

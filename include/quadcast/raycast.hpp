@@ -16,7 +16,7 @@ namespace quadcast {
 /// and cones, to the slab |dot(axis, x_local)| <= half_length, each end closed by a flat cap or
 /// left open.
 template <class T>
-struct QuadricPrimitive {
+struct ClippedQuadric {
     Quadric<T> q;
     Vec3<T> center;
     T radius;
@@ -44,7 +44,7 @@ struct LocalRay {
 /// The local ray for a world-space ray (origin, dir).
 /// Numerics: o = origin - center; g = A o + b, a = A v (left folds).
 template <class T>
-LocalRay<T> local_ray(const QuadricPrimitive<T>& p, const Vec3<T>& origin, const Vec3<T>& dir) {
+LocalRay<T> local_ray(const ClippedQuadric<T>& p, const Vec3<T>& origin, const Vec3<T>& dir) {
     const Mat3<T> A = upper3(p.q.q);
     const Vec3<T> o = origin - p.center;
     return {o, dir, A * o + xyz(p.q.q[3]), A * dir};
@@ -55,7 +55,7 @@ LocalRay<T> local_ray(const QuadricPrimitive<T>& p, const Vec3<T>& origin, const
 /// can meet a front-facing point of the quadric in its bound.
 /// Numerics: `cull_sphere` (conservative under rounding).
 template <class T>
-mask_t<T> cull_primitive(const QuadricPrimitive<T>& p, const Vec3<T>& o) {
+mask_t<T> cull_primitive(const ClippedQuadric<T>& p, const Vec3<T>& o) {
     return cull_sphere(p.q, o, vec3(T(0), T(0), T(0)), p.radius);
 }
 
@@ -63,7 +63,7 @@ mask_t<T> cull_primitive(const QuadricPrimitive<T>& p, const Vec3<T>& o) {
 /// face away from an eye strictly between them, so the primitive is culled only when the
 /// quadric is culled AND |dot(axis, o)| < half_length.
 template <class T>
-mask_t<T> cull_primitive_with_caps(const QuadricPrimitive<T>& p, const Vec3<T>& o) {
+mask_t<T> cull_primitive_with_caps(const ClippedQuadric<T>& p, const Vec3<T>& o) {
     return cull_primitive(p, o) && (abs(dot(p.axis, o)) < p.half_length);
 }
 
@@ -98,7 +98,7 @@ struct CastHit {
 /// beyond the patch; the extruded edge planes are perpendicular to the patch instead.
 /// Numerics: four left-fold dot products and comparisons.
 template <class T>
-mask_t<T> inside_planes(const QuadricPrimitive<T>& p, const Vec3<T>& x) {
+mask_t<T> inside_planes(const ClippedQuadric<T>& p, const Vec3<T>& x) {
     const Vec4<T> xh = vec4(x, T(1));
     const T slack = T(-0.000244140625);
     return ((dot(p.planes[0], xh) >= slack && dot(p.planes[1], xh) >= slack) && dot(p.planes[2], xh) >= slack) &&
@@ -136,7 +136,7 @@ Candidate<T> nearer(const Candidate<T>& a, const Candidate<T>& b) {
 /// The nearest candidate wins. Normal of a quadric hit: A x + b = g + lambda a (eq. 11).
 /// Numerics: see the functions named; the cap parameter is (s h - dot(axis, o)) / dot(axis, v).
 template <CastOptions Opt, class T>
-CastHit<T> cast_ray(const QuadricPrimitive<T>& p, const LocalRay<T>& r) {
+CastHit<T> cast_ray(const ClippedQuadric<T>& p, const LocalRay<T>& r) {
     using namespace raycast_detail;
     const T r2 = p.radius * p.radius;
     const RayQuadratic<T> rq = [&] {
@@ -208,7 +208,7 @@ struct FragmentHit {
 /// third row of the world -> view rotation. The one definition of a fragment's hit for the GL
 /// fragment stages (incremental and brute force) and the CPU reference renderer.
 template <CastOptions Opt, class T>
-FragmentHit<T> cast_and_depth(const QuadricPrimitive<T>& p, const LocalRay<T>& r, const Vec3<T>& vz_row, const Vec4<T>& pz) {
+FragmentHit<T> cast_and_depth(const ClippedQuadric<T>& p, const LocalRay<T>& r, const Vec3<T>& vz_row, const Vec4<T>& pz) {
     const CastHit<T> h = cast_ray<Opt>(p, r);
     const T depth = window_depth(h.lambda, dot(vz_row, r.v), pz);
     return {(h.hit && depth >= T(0)) && depth <= T(1), depth, h.normal};

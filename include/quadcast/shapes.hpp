@@ -150,7 +150,7 @@ inline render::Primitive ellipsoid_from_axes(const char* fn, const V3& center, c
     const double lu = length(u), lv = length(v), lw = length(w);
     if (!(lu > 0 && lv > 0 && lw > 0) || !std::isfinite(lu * lv * lw)) fail(fn, "every semi-axis must be nonzero and finite");
     if (!(vol > 1e-9 * lu * lv * lw)) fail(fn, "the semi-axes are (nearly) linearly dependent");
-    const Quadric<double> q = host::to_quadric(quadcast::ellipsoid(zero, u, v, w));
+    const Quadric<double> q = host::quadric_from_form(quadcast::ellipsoid(zero, u, v, w));
     return make(fn, q, center, std::max({lu, lv, lw}), render::Variant::ellipsoid, look);
 }
 
@@ -258,7 +258,7 @@ inline render::Primitive cylinder(const glm::vec3& p0, const glm::vec3& p1, floa
     const detail::V3 axis = d / (2.0 * h);
     detail::V3 b1{}, b2{};
     orthonormal_basis(axis, b1, b2);
-    const Quadric<double> q = host::to_quadric(elliptic_cylinder(vec3(0.0, 0.0, 0.0), b1 * r, b2 * r, axis * h));
+    const Quadric<double> q = host::quadric_from_form(elliptic_cylinder(vec3(0.0, 0.0, 0.0), b1 * r, b2 * r, axis * h));
     const bool closed = ends == Ends::both;
     render::Primitive p = detail::make(fn, q, 0.5 * (a0 + a1), std::sqrt(r * r + h * h), closed ? render::Variant::slab : render::Variant::open_slab, look, axis, h);
     // caps[0] closes the end +half_length along the axis (p1), caps[1] the end at p0.
@@ -279,7 +279,7 @@ inline render::Primitive cone(const glm::vec3& apex, const glm::vec3& base, floa
     const detail::V3 mid = 0.5 * (ap + bc);
     detail::V3 b1{}, b2{};
     orthonormal_basis(w / H, b1, b2);
-    const Quadric<double> q = host::to_quadric(elliptic_cone(ap - mid, b1 * r, b2 * r, w));
+    const Quadric<double> q = host::quadric_from_form(elliptic_cone(ap - mid, b1 * r, b2 * r, w));
     // The slab axis points from the base to the apex (the apex end +H/2 meets the quadric's inside
     // only at the apex: it needs no cap).
     render::Primitive p = detail::make(fn, q, mid, std::sqrt(r * r + 0.25 * H * H), cap ? render::Variant::slab : render::Variant::open_slab, look, -w / H, 0.5 * H);

@@ -189,7 +189,7 @@ inline V3L tilt(std::mt19937& rng, const V3L& v, LD angle) {
 /// A random primitive of `kind` (inputs drawn in long double, rounded to T by the constructors'
 /// arguments). Centres in [-5, 5]^3, axis lengths in [0.2, 2], some shear for ellipsoids.
 template <class T>
-quadcast::Primitive<T> random_primitive(std::mt19937& rng, quadcast::PrimitiveKind kind, int variant = 0) {
+quadcast::ParameterForm<T> random_primitive(std::mt19937& rng, quadcast::PrimitiveKind kind, int variant = 0) {
     using quadcast::PrimitiveKind;
     auto t3 = [](const V3L& v) { return quadcast::cast<T>(v); };
     const V3L c{{uniform(rng, -5, 5), uniform(rng, -5, 5), uniform(rng, -5, 5)}};
@@ -247,7 +247,7 @@ inline V3L grad_quadric(const M4L& q, const V3L& x) {
 
 /// Centre and radius of a sphere containing the clipped primitive (from samples; padded 1 %).
 template <class T>
-void bounding_sphere(const quadcast::Primitive<T>& prim, V3L& centre, LD& radius) {
+void bounding_sphere(const quadcast::ParameterForm<T>& prim, V3L& centre, LD& radius) {
     const M4L t = quadcast::cast<LD>(prim.t);
     const V4L d = quadcast::cast<LD>(prim.d);
     const LD zl = LD(prim.slab[0]), zh = LD(prim.slab[1]);

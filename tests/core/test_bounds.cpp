@@ -26,7 +26,7 @@ constexpr LD two_pi = LD(6.283185307179586476925286766559L);
 /// copies are those rounded values in long double.
 template <class T>
 struct Scene {
-    quadcast::Primitive<T> prim;
+    quadcast::ParameterForm<T> prim;
     M4L view_l, proj_l, t_l;
     quadcast::Mat4<T> pmt;  ///< P M T, computed in long double from the rounded factors, rounded
     V3L centre;             ///< bounding sphere of the clipped primitive (object space)
@@ -37,7 +37,7 @@ struct Scene {
 /// sphere's eye is at dist * r), looking at the centre tilted by up to `tilt_frac` of the angle
 /// that keeps the bounding sphere in front of the eye (negative: see below).
 template <class T>
-Scene<T> make_scene(std::mt19937& rng, const quadcast::Primitive<T>& prim, LD dist, LD tilt_frac) {
+Scene<T> make_scene(std::mt19937& rng, const quadcast::ParameterForm<T>& prim, LD dist, LD tilt_frac) {
     Scene<T> s{};
     s.prim = prim;
     s.t_l = to_ld(prim.t);

@@ -56,7 +56,7 @@ TEST_CASE_TEMPLATE("points on each primitive lie on its conic matrix, with the c
         LD worst = 0;
         for (int it = 0; it < 200; ++it) {
             std::mt19937 rng(1000u + 7919u * unsigned(kind) + unsigned(it));
-            const quadcast::Primitive<T> prim = random_primitive<T>(rng, kind, it);
+            const quadcast::ParameterForm<T> prim = random_primitive<T>(rng, kind, it);
             const M4L q = to_ld(quadcast::to_quadric(prim).q);  // computed in T
             const M4L t = to_ld(prim.t);
             const V4L d = quadcast::cast<LD>(prim.d);
@@ -167,7 +167,7 @@ TEST_CASE("the shared and the host conversion to Q agree") {
         for (int it = 0; it < 50; ++it) {
             std::mt19937 rng(5000u + 17u * unsigned(kind) + unsigned(it));
             const auto prim = random_primitive<double>(rng, kind, it);
-            const M4L a = to_ld(quadcast::to_quadric(prim).q), b = to_ld(quadcast::host::to_quadric(prim).q);
+            const M4L a = to_ld(quadcast::to_quadric(prim).q), b = to_ld(quadcast::host::quadric_from_form(prim).q);
             CHECK(max_abs_diff(a, b) <= 1e-12L * max_abs(b));
         }
     }
@@ -180,7 +180,7 @@ TEST_CASE("decomposing Q recovers the class and reproduces Q") {
             std::mt19937 rng(6000u + 37u * unsigned(kind) + unsigned(it));
             const auto prim = random_primitive<double>(rng, kind, it);
             const double scale = double((rng() % 2 ? 1 : -1) * log_uniform(rng, 0.01L, 100));
-            quadcast::Quadric<double> q = quadcast::host::to_quadric(prim);
+            quadcast::Quadric<double> q = quadcast::host::quadric_from_form(prim);
             for (int j = 0; j < 4; ++j) q.q[j] = q.q[j] * scale;
             const auto res = quadcast::host::decompose_quadric(q);
             REQUIRE_MESSAGE(res, kind_name(kind), ": ", res.error);
@@ -188,7 +188,7 @@ TEST_CASE("decomposing Q recovers the class and reproduces Q") {
             CHECK(dec.prim.kind == kind);
             for (int i = 0; i < 4; ++i) CHECK(LD(dec.prim.d[i]) == canonical_d(kind)[i]);
             // Q / scale = T^-T D T^-1
-            quadcast::Quadric<double> back = quadcast::host::to_quadric(dec.prim);
+            quadcast::Quadric<double> back = quadcast::host::quadric_from_form(dec.prim);
             for (int j = 0; j < 4; ++j) back.q[j] = back.q[j] * dec.scale;
             const LD err = max_abs_diff(to_ld(back.q), to_ld(q.q)) / max_abs(to_ld(q.q));
             worst = std::max(worst, err);
@@ -252,6 +252,6 @@ TEST_CASE("decomposing degenerate or unsupported Q gives a clear error") {
     q.q[2][1] = 0.5;
     CHECK(quadcast::host::decompose_quadric(q).error.find("symmetric") != std::string::npos);
     // A singular T is refused by the host conversion
-    CHECK_THROWS_AS(quadcast::host::to_quadric(quadcast::Vec4<double>{{1, 1, 1, -1}}, quadcast::zero_mat<double, 4, 4>()),
+    CHECK_THROWS_AS(quadcast::host::quadric_from_form(quadcast::Vec4<double>{{1, 1, 1, -1}}, quadcast::zero_mat<double, 4, 4>()),
                     std::invalid_argument);
 }

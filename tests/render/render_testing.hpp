@@ -14,7 +14,7 @@
 
 namespace qc_render_test {
 
-// quadcast::render's names, and the core's vocabulary by name (quadcast::Primitive, the
+// quadcast::render's names, and the core's vocabulary by name (quadcast::ParameterForm, the
 // parameter-space primitive, would clash with render::Primitive).
 using namespace quadcast::render;
 using quadcast::cast;

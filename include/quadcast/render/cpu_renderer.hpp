@@ -107,7 +107,7 @@ inline std::uint8_t to_unorm8(float c) {
 
 /// `cast_and_depth` of one variant at one pixel ray, as the GL fragment stage computes it.
 template <CastOptions Opt>
-Fragment cast_variant(const QuadricPrimitive<float>& p, const PixelRay& ray, const FrameSetup& f) {
+Fragment cast_variant(const ClippedQuadric<float>& p, const PixelRay& ray, const FrameSetup& f) {
     const FragmentHit<float> h = cast_and_depth<Opt>(p, local_ray(p, ray.origin, ray.dir), f.vz_row, f.pz);
     return {h.hit, h.depth, h.normal};
 }
@@ -263,7 +263,7 @@ inline void shade_pixel(const Primitive& p, const Vec3<float>& normal, const Vec
 /// bounding quad; the square c +- r for orthographic cameras), its corners projected by P,
 /// widened by 1/16 pixel (`pixel_span`); the full screen when the eye is inside the sphere or
 /// a corner lies on or behind the eye plane.
-inline PixelRect screen_rect(const QuadricPrimitive<float>& p, const FrameSetup& f) {
+inline PixelRect screen_rect(const ClippedQuadric<float>& p, const FrameSetup& f) {
     using namespace cpu_detail;
     PixelRect empty;
     const double r = static_cast<double>(p.radius);

@@ -54,7 +54,7 @@ struct Material {
 /// primitives have shape.half_length = +Inf. Build them with quadcast/shapes.hpp, which
 /// validates; `validate` (quadcast/render/validate.hpp) checks a hand-made one.
 struct Primitive {
-    QuadricPrimitive<float> shape;
+    ClippedQuadric<float> shape;
     Variant variant;
     Vec3<float> color;
     Material material;
