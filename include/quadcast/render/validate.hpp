@@ -1,7 +1,7 @@
 // quadcast/render/validate.hpp -- checks that a render::Primitive is drawable as it claims
 #pragma once
 
-// Host-only (double, Eigen). Both renderers call `validate_primitives` before drawing, so a
+// Host-only (double). Both renderers call `validate_primitives` before drawing, so a
 // hand-made primitive with a NaN, a bounding radius too small for its shape (the renderers
 // rasterise the bounding sphere only, so the rest would be cropped silently) or an impossible
 // material is an exception naming the primitive and the field, not a silent picture.
@@ -13,14 +13,15 @@
 #include <string>
 #include <vector>
 
-#include <Eigen/Dense>
-
 #include "quadcast/linalg.hpp"
 #include "quadcast/render/types.hpp"
 
 namespace quadcast::render {
 
 namespace validate_detail {
+
+using V3 = Vec3<double>;
+using M3 = Mat3<double>;
 
 inline std::string num(double x) {
     std::ostringstream s;
@@ -33,45 +34,86 @@ inline std::string num(double x) {
     throw std::invalid_argument("quadcast::render: primitive " + std::to_string(index) + ": " + what);
 }
 
-inline Eigen::Matrix3d upper(const Mat4<float>& q) {
-    Eigen::Matrix3d a;
+/// A (symmetrised), b and c of Q = [A b; b^T c] in double.
+inline void split(const Mat4<float>& q, M3& a, V3& b, double& c) {
     for (int j = 0; j < 3; ++j)
-        for (int i = 0; i < 3; ++i) a(i, j) = 0.5 * (double(q[j][i]) + double(q[i][j]));
-    return a;
+        for (int i = 0; i < 3; ++i) a[j][i] = 0.5 * (double(q[j][i]) + double(q[i][j]));
+    for (int i = 0; i < 3; ++i) b[i] = 0.5 * (double(q[3][i]) + double(q[i][3]));
+    c = q[3][3];
 }
 
-inline Eigen::Vector3d linear(const Mat4<float>& q) { return {0.5 * (double(q[3][0]) + double(q[0][3])), 0.5 * (double(q[3][1]) + double(q[1][3])), 0.5 * (double(q[3][2]) + double(q[2][3]))}; }
+/// Eigenvalues of a symmetric 3x3 matrix, ascending (the trigonometric closed form of the
+/// characteristic cubic; exact enough for a range check).
+inline V3 symmetric_eigenvalues(const M3& a) {
+    const double p1 = a[1][0] * a[1][0] + a[2][0] * a[2][0] + a[2][1] * a[2][1];
+    const double q = (a[0][0] + a[1][1] + a[2][2]) / 3.0;
+    const double p2 = (a[0][0] - q) * (a[0][0] - q) + (a[1][1] - q) * (a[1][1] - q) + (a[2][2] - q) * (a[2][2] - q) + 2.0 * p1;
+    if (p2 == 0) return vec3(q, q, q);
+    const double p = std::sqrt(p2 / 6.0);
+    M3 bm = a;
+    for (int i = 0; i < 3; ++i) bm[i][i] -= q;
+    for (int j = 0; j < 3; ++j)
+        for (int i = 0; i < 3; ++i) bm[j][i] /= p;
+    const double det = bm[0][0] * (bm[1][1] * bm[2][2] - bm[2][1] * bm[1][2]) - bm[1][0] * (bm[0][1] * bm[2][2] - bm[2][1] * bm[0][2]) +
+                       bm[2][0] * (bm[0][1] * bm[1][2] - bm[1][1] * bm[0][2]);
+    const double r = std::clamp(det / 2.0, -1.0, 1.0);
+    const double phi = std::acos(r) / 3.0;
+    const double e_max = q + 2.0 * p * std::cos(phi), e_min = q + 2.0 * p * std::cos(phi + 2.0 * M_PI / 3.0);
+    return vec3(e_min, 3.0 * q - e_min - e_max, e_max);
+}
 
-/// Largest |x| over the ellipsoid x^T A x + 2 b.x + c <= 0 (A definite): the centre's distance
-/// plus the longest semi-axis is an upper bound, exact when the centre is at the origin; the
-/// exact value is the larger of that bound's two ends only then, so points on a 32 x 64 grid of
-/// the surface give the lower bound that decides (within 1e-6 of the bound's scale).
+/// Solves a x = r for a symmetric positive-definite 3x3 a (`inverse` of linalg.hpp).
+inline V3 solve(const M3& a, const V3& r) {
+    double d = 0;
+    const M3 inv = inverse(a, d);
+    return inv * r;
+}
+
+/// Largest |x| over the ellipsoid x^T A x + 2 b.x + c <= 0 (A definite; the sign of Q may be
+/// either): |centre| + longest semi-axis bounds it and is exact for a centred ellipsoid (the
+/// renderers' case); off centre, points x = centre + s L^-T u with A = L L^T (Cholesky) and u on a
+/// 64 x 128 grid of the unit sphere give the value to within 3e-4 of it.
 inline double ellipsoid_extent(std::size_t index, const Mat4<float>& q) {
-    Eigen::Matrix3d a = upper(q);
-    Eigen::Vector3d b = linear(q);
-    double c = q[3][3];
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(a);
-    Eigen::Vector3d lam = es.eigenvalues();
+    M3 a{};
+    V3 b{};
+    double c = 0;
+    split(q, a, b, c);
+    V3 lam = symmetric_eigenvalues(a);
     if (lam[0] < 0 && lam[2] < 0) {  // -f: the same surface with the inside f < 0
-        a = -a;
+        for (int j = 0; j < 3; ++j)
+            for (int i = 0; i < 3; ++i) a[j][i] = -a[j][i];
         b = -b;
         c = -c;
-        lam = -lam.reverse().eval();
+        lam = vec3(-lam[2], -lam[1], -lam[0]);
     }
-    if (!(lam[0] > 0)) fail(index, "variant ellipsoid needs a definite quadric (eigenvalues of A " + num(lam[0]) + ", " + num(lam[2]) + ")");
-    const Eigen::Vector3d centre = -a.ldlt().solve(b);
-    const double k0 = c + b.dot(centre);
+    if (!(lam[0] > 1e-12 * lam[2])) fail(index, "variant ellipsoid needs a definite quadric (eigenvalues of A " + num(lam[0]) + " .. " + num(lam[2]) + ")");
+    const V3 centre = -solve(a, b);
+    const double k0 = c + dot(b, centre);
     if (!(k0 < 0)) fail(index, "variant ellipsoid: the quadric's zero set is empty or a point");
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> e2(a);
-    Eigen::Vector3d semi;
-    for (int k = 0; k < 3; ++k) semi[k] = std::sqrt(-k0 / e2.eigenvalues()[k]);
-    if (centre.norm() <= 1e-9 * semi.maxCoeff()) return semi.maxCoeff() + centre.norm();
+    const double major = std::sqrt(-k0 / lam[0]);
+    const double lc = length(centre);
+    if (lc <= 1e-9 * major) return major + lc;
+    // Cholesky A = L L^T (lower L, rows l[i]); x = centre + sqrt(-k0) L^-T u.
+    double l[3][3] = {};
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j <= i; ++j) {
+            double s = a[j][i];
+            for (int k = 0; k < j; ++k) s -= l[i][k] * l[j][k];
+            l[i][j] = i == j ? std::sqrt(std::max(s, 0.0)) : s / l[j][j];
+        }
     double best = 0;
-    for (int i = 0; i <= 32; ++i)
-        for (int j = 0; j < 64; ++j) {
-            const double th = M_PI * i / 32, ph = 2 * M_PI * j / 64;
-            const Eigen::Vector3d s(std::sin(th) * std::cos(ph) * semi[0], std::sin(th) * std::sin(ph) * semi[1], std::cos(th) * semi[2]);
-            best = std::max(best, (centre + e2.eigenvectors() * s).norm());
+    for (int i = 0; i <= 64; ++i)
+        for (int j = 0; j < 128; ++j) {
+            const double th = M_PI * i / 64, ph = 2 * M_PI * j / 128;
+            const double u[3] = {std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph), std::cos(th)};
+            // back substitution L^T y = u
+            double y[3];
+            for (int r = 2; r >= 0; --r) {
+                double s = u[r];
+                for (int k = r + 1; k < 3; ++k) s -= l[k][r] * y[k];
+                y[r] = s / l[r][r];
+            }
+            best = std::max(best, length(centre + std::sqrt(-k0) * vec3(y[0], y[1], y[2])));
         }
     return best;
 }
@@ -81,35 +123,46 @@ inline double ellipsoid_extent(std::size_t index, const Mat4<float>& q) {
 /// ellipse (or empty, or a point), sampled at 720 points; the surface between is ruled, so the
 /// caps bound it.
 inline double slab_extent(std::size_t index, const Mat4<float>& q, const Vec3<float>& axis_f, double h) {
-    const Eigen::Matrix3d a = upper(q);
-    const Eigen::Vector3d b = linear(q);
-    const double c = q[3][3];
-    const Eigen::Vector3d ax(axis_f[0], axis_f[1], axis_f[2]);
-    // A basis (e1, e2) of the cap planes.
-    Eigen::Vector3d e1 = ax.unitOrthogonal(), e2 = ax.cross(e1);
-    Eigen::Matrix<double, 3, 2> e;
-    e.col(0) = e1;
-    e.col(1) = e2;
+    M3 a{};
+    V3 b{};
+    double c = 0;
+    split(q, a, b, c);
+    const V3 ax = normalize(cast<double>(axis_f));
+    // An orthonormal basis (e1, e2) of the cap planes.
+    const V3 t = std::fabs(ax[0]) < 0.9 ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 1.0, 0.0);
+    const V3 e1 = normalize(cross(ax, t)), e2 = cross(ax, e1);
     double best = 0;
     for (double z : {h, -h}) {
-        // f(z a + E s) = s^T M s + 2 m.s + k
-        const Eigen::Vector3d p0 = z * ax;
-        const Eigen::Matrix2d m = e.transpose() * a * e;
-        const Eigen::Vector2d mv = e.transpose() * (a * p0 + b);
-        const double k = p0.dot(a * p0) + 2 * b.dot(p0) + c;
-        const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(m);
-        const Eigen::Vector2d lam = es.eigenvalues();
-        const double scale = std::max(std::fabs(lam[0]), std::fabs(lam[1]));
-        if (!(lam[0] > 1e-12 * scale) || !(scale > 0))
+        // f(z a + s e1 + t e2) = [s t] M [s t]^T + 2 m.[s t] + k
+        const V3 p0 = z * ax;
+        const V3 ap0 = a * p0, ae1 = a * e1, ae2 = a * e2;
+        const double m00 = dot(e1, ae1), m01 = dot(e1, ae2), m11 = dot(e2, ae2);
+        const double m0 = dot(e1, ap0 + b), m1 = dot(e2, ap0 + b);
+        const double k = dot(p0, ap0) + 2 * dot(b, p0) + c;
+        // Eigen-decomposition of the 2x2 M.
+        const double tr = 0.5 * (m00 + m11), dd = std::sqrt(0.25 * (m00 - m11) * (m00 - m11) + m01 * m01);
+        const double l0 = tr - dd, l1 = tr + dd;
+        const double scale = std::max(std::fabs(l0), std::fabs(l1));
+        if (!(scale > 0) || !(l0 > 1e-12 * scale))
             fail(index, "variant slab: the quadric's cross-section at a cap is not bounded (the slab variants draw cylinders, cones and hyperboloids along their axis)");
-        const Eigen::Vector2d s0 = -m.ldlt().solve(mv);
-        const double k0 = k + mv.dot(s0);
-        best = std::max(best, (p0 + e * s0).norm());
+        const double det = m00 * m11 - m01 * m01;
+        const double s0 = -(m11 * m0 - m01 * m1) / det, t0 = -(m00 * m1 - m01 * m0) / det;
+        const double k0 = k + m0 * s0 + m1 * t0;
+        best = std::max(best, length(p0 + s0 * e1 + t0 * e2));
         if (k0 >= 0) continue;  // empty or a point
+        // Unit eigenvectors of M (v0 for l0, v1 = its perpendicular).
+        double v0x = m01, v0y = l0 - m00;
+        if (std::fabs(v0x) + std::fabs(v0y) < 1e-300) { v0x = m11 - l0; v0y = -m01; }
+        if (std::fabs(v0x) + std::fabs(v0y) < 1e-300) { v0x = 1; v0y = 0; }
+        const double ln = std::hypot(v0x, v0y);
+        v0x /= ln;
+        v0y /= ln;
+        const double r0 = std::sqrt(-k0 / l0), r1 = std::sqrt(-k0 / l1);
         for (int i = 0; i < 720; ++i) {
-            const double t = 2 * M_PI * i / 720;
-            const Eigen::Vector2d s = s0 + es.eigenvectors() * Eigen::Vector2d(std::cos(t) * std::sqrt(-k0 / lam[0]), std::sin(t) * std::sqrt(-k0 / lam[1]));
-            best = std::max(best, (p0 + e * s).norm());
+            const double th = 2 * M_PI * i / 720;
+            const double ss = s0 + r0 * std::cos(th) * v0x - r1 * std::sin(th) * v0y;
+            const double tt = t0 + r0 * std::cos(th) * v0y + r1 * std::sin(th) * v0x;
+            best = std::max(best, length(p0 + ss * e1 + tt * e2));
         }
     }
     return best;
@@ -119,18 +172,22 @@ inline double slab_extent(std::size_t index, const Mat4<float>& q, const Vec3<fl
 inline double tet_extent(std::size_t index, const Vec4<float> (&planes)[4]) {
     double best = 0;
     for (int skip = 0; skip < 4; ++skip) {
-        Eigen::Matrix3d m;
-        Eigen::Vector3d r;
+        M3 m{};
+        V3 r{};
         int row = 0;
         for (int i = 0; i < 4; ++i) {
             if (i == skip) continue;
-            m.row(row) = Eigen::Vector3d(planes[i][0], planes[i][1], planes[i][2]);
+            for (int k = 0; k < 3; ++k) m[k][row] = planes[i][k];
             r[row] = -double(planes[i][3]);
             ++row;
         }
-        const Eigen::FullPivLU<Eigen::Matrix3d> lu(m);
-        if (!lu.isInvertible()) fail(index, "variant planes: three clip planes do not meet in a point (a flat tetrahedron)");
-        best = std::max(best, lu.solve(r).norm());
+        double d = 0;
+        const M3 inv = inverse(m, d);
+        double scale = 0;
+        for (int j = 0; j < 3; ++j)
+            for (int i = 0; i < 3; ++i) scale = std::max(scale, std::fabs(m[j][i]));
+        if (!(std::fabs(d) > 1e-12 * scale * scale * scale)) fail(index, "variant planes: three clip planes do not meet in a point (a flat tetrahedron)");
+        best = std::max(best, length(inv * r));
     }
     return best;
 }
