@@ -1,14 +1,12 @@
 // quadcast-codegen -- rewrites generated/ from the templates, or checks that it is in sync
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <set>
 #include <sstream>
 #include <string>
-
-#include <unistd.h>
+#include <vector>
 
 #include "quadcast/codegen/generate.hpp"
 
@@ -18,8 +16,8 @@ namespace {
 
 int usage() {
     std::cerr << "usage: quadcast-codegen --out DIR     write every generated file under DIR (removes stale ones)\n"
-                 "       quadcast-codegen --check DIR   regenerate into a temporary directory, print a unified diff\n"
-                 "                                      against DIR and exit 1 when they differ\n";
+                 "       quadcast-codegen --check DIR   compare DIR with what the templates produce now; print each\n"
+                 "                                      changed file and its first differing lines, exit 1 when any differ\n";
     return 2;
 }
 
@@ -48,6 +46,52 @@ void write_tree(const fs::path& dir, const std::map<std::string, std::string>& f
                 fs::remove(e.path());
 }
 
+/// Splits `text` into lines (without the newlines).
+std::vector<std::string> lines_of(const std::string& text) {
+    std::vector<std::string> out;
+    std::istringstream in(text);
+    for (std::string l; std::getline(in, l);) out.push_back(l);
+    return out;
+}
+
+/// The first hunk where `old_text` and `new_text` differ: up to 3 lines of context, then up to 6
+/// removed and 6 added lines (a summary, not a full diff).
+std::string first_hunk(const std::string& old_text, const std::string& new_text) {
+    const auto a = lines_of(old_text), b = lines_of(new_text);
+    std::size_t i = 0;
+    while (i < a.size() && i < b.size() && a[i] == b[i]) ++i;
+    std::size_t ea = a.size(), eb = b.size();
+    while (ea > i && eb > i && a[ea - 1] == b[eb - 1]) { --ea; --eb; }
+    std::ostringstream h;
+    h << "  @@ line " << i + 1 << ": " << ea - i << " line(s) removed, " << eb - i << " added\n";
+    for (std::size_t k = i >= 3 ? i - 3 : 0; k < i; ++k) h << "    " << a[k] << "\n";
+    for (std::size_t k = i; k < ea && k < i + 6; ++k) h << "  - " << a[k] << "\n";
+    if (ea - i > 6) h << "  - ... (" << ea - i - 6 << " more)\n";
+    for (std::size_t k = i; k < eb && k < i + 6; ++k) h << "  + " << b[k] << "\n";
+    if (eb - i > 6) h << "  + ... (" << eb - i - 6 << " more)\n";
+    return h.str();
+}
+
+/// One summary per file of `dir` that differs from `files` (changed, missing or stale).
+std::vector<std::string> check_tree(const fs::path& dir, const std::map<std::string, std::string>& files) {
+    std::vector<std::string> out;
+    std::set<fs::path> keep;
+    for (const auto& [rel, text] : files) {
+        const fs::path p = dir / rel;
+        keep.insert(p.lexically_normal());
+        std::ifstream in(p, std::ios::binary);
+        if (!in) { out.push_back("missing: " + rel + "\n"); continue; }
+        std::stringstream ss;
+        ss << in.rdbuf();
+        if (ss.str() != text) out.push_back("changed: " + rel + "\n" + first_hunk(ss.str(), text));
+    }
+    if (fs::exists(dir))
+        for (const auto& e : fs::recursive_directory_iterator(dir))
+            if (e.is_regular_file() && !keep.count(e.path().lexically_normal()) && e.path().filename() != "README.md")
+                out.push_back("stale (no longer generated): " + fs::relative(e.path(), dir).string() + "\n");
+    return out;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -62,15 +106,11 @@ int main(int argc, char** argv) {
             return 0;
         }
         if (mode == "--check") {
-            const fs::path tmp = fs::temp_directory_path() / ("quadcast-codegen-" + std::to_string(::getpid()));
-            fs::remove_all(tmp);
-            write_tree(tmp, files);
-            if (fs::exists(dir / "README.md")) fs::copy_file(dir / "README.md", tmp / "README.md");
-            const std::string cmd = "diff -ruN '" + dir.string() + "' '" + tmp.string() + "'";
-            const int rc = std::system(cmd.c_str());
-            fs::remove_all(tmp);
-            if (rc != 0) {
-                std::cerr << "quadcast-codegen: " << dir.string() << " is out of date; run `make regenerate` and commit the result\n";
+            const auto changes = check_tree(dir, files);
+            if (!changes.empty()) {
+                for (const std::string& c : changes) std::cout << c;
+                std::cerr << "quadcast-codegen: " << changes.size() << " file(s) in " << dir.string()
+                          << " out of date; run `make regenerate` and commit the result\n";
                 return 1;
             }
             std::cout << "quadcast-codegen: " << files.size() << " generated files in sync\n";
