@@ -7,6 +7,7 @@
 #include "kernels/common.hpp"
 #include "quadcast/bounds.hpp"
 #include "quadcast/raycast.hpp"
+#include "quadcast/render/variant_key.hpp"
 #include "quadcast/shading.hpp"
 
 namespace quadcast::codegen::kernels {
@@ -134,19 +135,11 @@ void output_fragment(IO& io, const FragmentHit<typename IO::T>& f) {
     io.out("normal", f.normal);
 }
 
-/// Name of a fragment-stage variant: fragment_<ellipsoid|slab|bounded|planes>[_nocull].
-constexpr const char* fragment_kernel_name(CastOptions o) {
-    if (o.planes) return o.cull ? "fragment_planes" : "fragment_planes_nocull";
-    if (o.slab) return o.cull ? "fragment_slab" : "fragment_slab_nocull";
-    if (o.bound) return o.cull ? "fragment_bounded" : "fragment_bounded_nocull";
-    return o.cull ? "fragment_ellipsoid" : "fragment_ellipsoid_nocull";
-}
-
 /// Per fragment: cast the interpolated ray (`cast`), its window depth (`window_depth`) and the
 /// normal. A hit must lie between the near and far planes (depth in [0, 1]).
 template <CastOptions Opt>
 struct FragmentCastKernel {
-    static constexpr const char* name = fragment_kernel_name(Opt);
+    static constexpr const char* name = render::fragment_kernel_name(Opt);
     static constexpr const char* source = "quadcast::cast_and_depth (quadcast/raycast.hpp)";
     static constexpr const char* summary = "incremental ray casting: a fragment's hit, depth and normal (Stoll et al. 2006, sec. 5)";
     template <class IO> static void run(IO& io) {
@@ -212,7 +205,7 @@ struct SphereVertexKernel {
 /// CastOptions::sphere, the closed form of `ray_quadratic_sphere`; reads only the radius and o, v.
 template <bool Cull>
 struct FragmentSphereKernel {
-    static constexpr const char* name = Cull ? "fragment_sphere" : "fragment_sphere_nocull";
+    static constexpr const char* name = render::fragment_kernel_name(render::FragmentShape::sphere, Cull);
     static constexpr const char* source = "quadcast::cast_and_depth with CastOptions::sphere (quadcast/raycast.hpp)";
     static constexpr const char* summary = "incremental ray casting of a sphere in closed form: a fragment's hit, depth and normal";
     template <class IO> static void run(IO& io) {
@@ -415,19 +408,11 @@ struct PixelRayKernel {
     }
 };
 
-/// Name of a brute-force fragment-stage variant: fragment_<...>_brute.
-constexpr const char* fragment_brute_kernel_name(CastOptions o) {
-    if (o.planes) return o.cull ? "fragment_planes_brute" : "fragment_planes_nocull_brute";
-    if (o.slab) return o.cull ? "fragment_slab_brute" : "fragment_slab_nocull_brute";
-    if (o.bound) return o.cull ? "fragment_bounded_brute" : "fragment_bounded_nocull_brute";
-    return o.cull ? "fragment_ellipsoid_brute" : "fragment_ellipsoid_nocull_brute";
-}
-
 /// Per fragment, brute force: the local ray of the pixel's world ray (`local_ray`), then the same
 /// cast, depth and normal as `FragmentCastKernel`.
 template <CastOptions Opt>
 struct FragmentBruteKernel {
-    static constexpr const char* name = fragment_brute_kernel_name(Opt);
+    static constexpr const char* name = render::fragment_kernel_name(Opt, true);
     static constexpr const char* source = "quadcast::local_ray, quadcast::cast_and_depth (quadcast/raycast.hpp)";
     static constexpr const char* summary = "brute-force ray casting: a fragment's local ray, hit, depth and normal";
     template <class IO> static void run(IO& io) {

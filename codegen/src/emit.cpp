@@ -205,7 +205,9 @@ std::string banner(const std::string& file, const std::string& source, const std
     return b.str();
 }
 
-std::string verify_compute_shader(const EmittedKernel& k, const KernelDef& def) {
+std::string verify_compute_shader(const EmittedKernel& k, const KernelDef& def) { return verify_compute_shader(k, def, k.function); }
+
+std::string verify_compute_shader(const EmittedKernel& k, const KernelDef& def, std::string_view function) {
     const Signature& s = k.signature;
     std::ostringstream c;
     c << "#version 430 core\n";
@@ -215,7 +217,7 @@ std::string verify_compute_shader(const EmittedKernel& k, const KernelDef& def) 
          "layout(std430, binding = 1) writeonly buffer qc_Outputs { uint qc_out[]; };\n"
          "uniform uint qc_count;\n"
          "uniform uint qc_offset;\n\n";
-    c << k.function << "\n";
+    c << function << "\n";
     c << "float qc_verify_word(uint i) { return uintBitsToFloat(qc_in[i]); }\n\n";
     c << "void main()\n{\n";
     c << "    uint qc_verify_i = qc_offset + gl_GlobalInvocationID.x;\n";

@@ -42,13 +42,16 @@ int run_verify(const VerifyOptions& opt) {
         ++ran;
         const auto t0 = std::chrono::steady_clock::now();
         const std::string name = "qc_" + k.name;
-        const std::string_view source = generated::find(name + ".verify");
+        // The kernel text the renderers embed (quadcast::gl), checked against the templates, in
+        // this command's own harness (no verification shaders in the renderers' library).
+        const std::string_view embedded = generated::find(name);
         const codegen::EmittedKernel emitted = codegen::emit_kernel(k);
-        if (source.empty()) {
-            std::printf("%-28s  not in the generated shaders: run `make regenerate`\n", name.c_str());
+        if (embedded.empty() || embedded != emitted.function) {
+            std::printf("%-28s  %s the generated shaders: run `make regenerate`\n", name.c_str(), embedded.empty() ? "not in" : "differs from");
             ++failures;
             continue;
         }
+        const std::string source = codegen::verify_compute_shader(emitted, k, embedded);
         const auto inputs = codegen::make_inputs(k, opt.count, opt.seed);
         const auto expected = codegen::run_cpu(k, inputs, opt.count);
         gl::ComputeRunner runner(ctx->api(), source, name + ".verify.comp");

@@ -1,46 +1,61 @@
-// quadcast/gl/generated_programs.hpp -- programs of generated shaders, compiled on first use and kept
+// quadcast/gl/generated_programs.hpp -- programs of generated shaders by variant key, compiled on first use and kept
 #pragma once
 
 #include <map>
 #include <memory>
 #include <stdexcept>
 #include <string>
-#include <string_view>
+#include <vector>
 
-#include "quadcast/generated/shaders.hpp"
 #include "quadcast/gl/loader.hpp"
 #include "quadcast/gl/program.hpp"
+#include "quadcast/gl/stages.hpp"
+#include "quadcast/render/variant_key.hpp"
 
 namespace quadcast::gl {
 
-/// The programs a renderer builds from quadcast/generated/shaders.hpp, by shader name; each is
-/// compiled and linked on first use. `owner` names the renderer in errors.
+/// The programs a renderer builds from the stages of variant keys (quadcast::gl::program_stages);
+/// each is assembled, compiled and linked on first use. `owner` names the renderer in errors.
 class GeneratedPrograms {
 public:
     GeneratedPrograms(const Api& api, std::string owner) : api_(&api), owner_(std::move(owner)) {}
 
-    /// The program of generated vertex shader `vs` and fragment shader `fs`.
-    const Program& get(const std::string& vs, const std::string& fs) {
-        const std::string key = vs + "+" + fs;
-        if (auto it = programs_.find(key); it != programs_.end()) return *it->second;
-        const std::string_view vsrc = source(vs), fsrc = source(fs);
-        return keep(key, make_program(*api_, key, {{GL_VERTEX_SHADER, vsrc}, {GL_FRAGMENT_SHADER, fsrc}}));
+    const Program& get(const render::QuadricKey& k) {
+        try {
+            render::check(k);
+        } catch (const std::invalid_argument& e) {
+            throw std::runtime_error(owner_ + ": " + e.what());
+        }
+        const render::QuadricKey c = render::canonical(k);
+        return cached(render::key_name(c), [&] { return program_stages(c); });
     }
-
-    /// The program of generated compute shader `cs`.
-    const Program& compute(const std::string& cs) {
-        if (auto it = programs_.find(cs); it != programs_.end()) return *it->second;
-        return keep(cs, make_program(*api_, cs, {{GL_COMPUTE_SHADER, source(cs)}}));
+    const Program& get(const render::DeferredKey& k) {
+        return cached(render::key_name(k), [&] { return program_stages(k); });
+    }
+    const Program& get(const render::IsoKey& k) {
+        return cached(render::key_name(k), [&] { return program_stages(k); });
+    }
+    /// The compute pre-pass of the precomputed isosurface stages.
+    const Program& compute(render::VolumeScheme s) {
+        return cached(std::string("iso-coefficients:") + render::volume_scheme_name(s), [&] { return std::vector<StageText>{coefficient_stage(s)}; });
     }
 
 private:
-    std::string_view source(const std::string& name) const {
-        const std::string_view s = generated::find(name);
-        if (s.empty()) throw std::runtime_error(owner_ + ": no generated shader " + name);
-        return s;
-    }
-    const Program& keep(const std::string& key, Program p) {
-        return *programs_.emplace(key, std::make_unique<Program>(std::move(p))).first->second;
+    template <class Stages>
+    const Program& cached(const std::string& key, Stages stages) {
+        if (auto it = programs_.find(key); it != programs_.end()) return *it->second;
+        const std::vector<StageText> st = stages();
+        std::vector<Shader> shaders;
+        shaders.reserve(st.size());
+        std::string name;
+        for (const StageText& s : st) {
+            const GLenum kind = s.kind == StageText::Kind::vertex ? GL_VERTEX_SHADER : s.kind == StageText::Kind::fragment ? GL_FRAGMENT_SHADER : GL_COMPUTE_SHADER;
+            shaders.push_back(compile_shader(*api_, kind, s.text, s.name));
+            name += (name.empty() ? "" : "+") + s.name;
+        }
+        std::vector<GLuint> ids;
+        for (const Shader& s : shaders) ids.push_back(s.id());
+        return *programs_.emplace(key, std::make_unique<Program>(detail::link_ids(*api_, ids, name))).first->second;
     }
 
     const Api* api_;

@@ -24,7 +24,6 @@
 #include <string>
 #include <vector>
 
-#include "quadcast/generated/shaders.hpp"
 #include "quadcast/gl/generated_programs.hpp"
 #include "quadcast/gl/loader.hpp"
 #include "quadcast/gl/program.hpp"
@@ -246,14 +245,13 @@ private:
             gl.BufferData(GL_SHADER_STORAGE_BUFFER, static_cast<GLsizeiptr>(n * nc * sizeof(float)), nullptr, GL_DYNAMIC_COPY);
             gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
             gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, v.coeffs);
-            const Program& cp = programs_.compute(std::string("qc_iso_") + render::volume_scheme_name(m.scheme) + "_coefficients.comp");
+            const Program& cp = programs_.compute(m.scheme);
             gl.UseProgram(cp.id());
             gl.Uniform1ui(cp.uniform_location("qc_count"), static_cast<GLuint>(n));
             gl.DispatchCompute(static_cast<GLuint>((n + 63) / 64), 1, 1);
             gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
         }
-        const std::string what = std::string(render::volume_scheme_name(m.scheme)) + (cam.orthographic ? "_ortho" : "_perspective");
-        const Program& prog = programs_.get("qc_iso_" + what + (pre ? "_precomputed" : "") + ".vert", (gbuffer ? "qc_iso_gbuffer_" : "qc_iso_") + what + ".frag");
+        const Program& prog = programs_.get(render::IsoKey{m.scheme, cam.orthographic, gbuffer, pre});
         gl.UseProgram(prog.id());
         set_uniforms(prog, m, cam, light, opt);
         gl.Uniform1ui(prog.uniform_location("qc_first"), 0u);

@@ -5,8 +5,9 @@
 // vertex stage does the per-primitive work once per corner (bounding quad, ray terms, culling;
 // an index buffer shares the two corners of the quad's diagonal),
 // the fragment stage casts the interpolated ray (incremental ray casting). Shaders come from
-// quadcast/generated/shaders.hpp: one variant per (primitive kind, culling, camera model); a
-// scene compiles only the variants it uses.
+// the generated kernels, assembled per variant key (quadcast/render/variant_key.hpp: primitive
+// shape, culling, camera model, forward or geometry buffer ...); a scene compiles only the
+// variants it uses.
 
 #include <algorithm>
 #include <array>
@@ -17,7 +18,6 @@
 #include <string>
 #include <vector>
 
-#include "quadcast/generated/shaders.hpp"
 #include "quadcast/gl/framebuffer.hpp"
 #include "quadcast/gl/generated_programs.hpp"
 #include "quadcast/gl/loader.hpp"
@@ -27,6 +27,7 @@
 #include "quadcast/render/record.hpp"
 #include "quadcast/render/validate.hpp"
 #include "quadcast/render/types.hpp"
+#include "quadcast/render/variant_key.hpp"
 
 namespace quadcast::gl {
 
@@ -63,7 +64,7 @@ public:
     /// from gl_FragCoord (`pixel_ray`) and runs `local_ray` and `cast_ray` per fragment (same image,
     /// perspective camera and forward shading only); or a pass-through stage writing a constant
     /// colour and the rasterised depth over the same bounding quads (the fill-rate ceiling).
-    enum class FragmentStage { incremental, brute_force, passthrough };
+    using FragmentStage = render::FragmentStage;
     void set_fragment_stage(FragmentStage s) { stage_ = s; }
     FragmentStage fragment_stage() const { return stage_; }
     /// Depth test of the primitive pass (on by default); off makes every rasterised fragment
@@ -199,7 +200,7 @@ public:
             if (ranges_[v].second == 0) continue;
             const auto variant = static_cast<render::Variant>(v);
             const bool cull = render::cast_options(variant, opt.culling).cull;
-            const Program& prog = program(variant, cull, cam.orthographic, deferred, opt.environment != nullptr);
+            const Program& prog = program(variant, opt.culling, cam.orthographic, deferred, opt.environment != nullptr);
             gl.UseProgram(prog.id());
             set_uniforms(prog, cam, light, opt);
             gl.Uniform1i(prog.uniform_location("qc_cull"), cull && !cam.orthographic ? 1 : 0);
@@ -220,34 +221,18 @@ public:
     std::size_t primitive_count() const { return count_; }
 
 private:
-    /// env: forward shading with environment reflection (the geometry-buffer programs do not shade).
-    const Program& program(render::Variant v, bool cull, bool ortho, bool gbuffer = false, bool env = false) {
-        // Open slabs use the slab stages (the caps come from the record), never culled.
-        const std::string variant = std::string(render::variant_name(v == render::Variant::open_slab ? render::Variant::slab : v)) + (cull ? "" : "_nocull");
-        const std::string proj = ortho ? "ortho" : "perspective";
-        const std::string vs = (v == render::Variant::sphere ? "qc_sphere_" : "qc_quadric_") + proj + ".vert";
-        if (stage_ != FragmentStage::incremental && !gbuffer) {
-            if (stage_ == FragmentStage::passthrough) return program(vs, "qc_passthrough.frag");
-            if (ortho) throw std::runtime_error("quadcast::gl::QuadricRenderer: the brute-force fragment stage needs a perspective camera");
-            if (v == render::Variant::sphere)
-                throw std::runtime_error("quadcast::gl::QuadricRenderer: the brute-force fragment stage has no sphere variant (use Variant::ellipsoid)");
-            return program(vs, "qc_quadric_" + variant + "_brute_perspective.frag");
-        }
-        if (stage_ != FragmentStage::incremental && gbuffer)
-            throw std::runtime_error("quadcast::gl::QuadricRenderer: the brute-force and pass-through fragment stages shade forward only");
-        const std::string fs = (gbuffer ? "qc_gbuffer_" : "qc_quadric_") + variant + (env && !gbuffer ? "_environment_" : "_") + proj + ".frag";
-        return program(vs, fs);
+    /// The program of variant `v`: forward (with `env`, environment reflection) or, with
+    /// `gbuffer`, the geometry-buffer stages (which do not shade), for the fragment stage set by
+    /// `set_fragment_stage` (compiled on first use).
+    const Program& program(render::Variant v, bool culling, bool ortho, bool gbuffer = false, bool env = false) {
+        return programs_.get(render::quadric_key(v, culling, ortho, gbuffer, env, stage_));
     }
-
-    /// The program of a generated vertex and fragment shader (compiled on first use).
-    const Program& program(const std::string& vs, const std::string& fs) { return programs_.get(vs, fs); }
 
     /// The deferred pass: one full-screen triangle into the colour target (depth test off; the
     /// depth target keeps the quadric pass's depth) shading each pixel from the geometry buffer.
     void shade_deferred(const render::Camera& cam, const render::Light& light, const render::RenderOptions& opt) {
         const Api& gl = *api_;
-        const Program& prog = program("qc_fullscreen.vert", std::string("qc_deferred") + (opt.shadows ? "_shadows" : "") + (opt.silhouettes ? "_silhouettes" : "") +
-                                                               (opt.environment ? "_environment" : "") + ".frag");
+        const Program& prog = programs_.get(render::DeferredKey{opt.shadows, opt.silhouettes, opt.environment != nullptr});
         gl.BindFramebuffer(GL_FRAMEBUFFER, fbo_);
         gl.Disable(GL_DEPTH_TEST);
         gl.UseProgram(prog.id());

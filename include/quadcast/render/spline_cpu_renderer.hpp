@@ -38,19 +38,12 @@
 #include "quadcast/raycast.hpp"
 #include "quadcast/render/cpu_renderer.hpp"
 #include "quadcast/render/types.hpp"
+#include "quadcast/render/variant_key.hpp"
 #include "quadcast/spline/grid.hpp"
 #include "quadcast/spline/octree.hpp"
 #include "quadcast/spline/raycast.hpp"
 
 namespace quadcast::render {
-
-/// Which reconstruction of the samples is rendered.
-enum class VolumeScheme : std::uint8_t { qss, s31, trilinear };
-
-/// "qss", "s31", "trilinear".
-constexpr const char* volume_scheme_name(VolumeScheme s) {
-    return s == VolumeScheme::qss ? "qss" : s == VolumeScheme::s31 ? "s31" : "trilinear";
-}
 
 /// A volume prepared for rendering one isosurface (host-only; build with `prepare_volume`).
 struct VolumeModel {

@@ -3,6 +3,7 @@
 
 #include <set>
 #include <string>
+#include <string_view>
 
 #include "quadcast/codegen/kernel.hpp"
 
@@ -32,5 +33,9 @@ std::string banner(const std::string& file, const std::string& source, const std
 /// A complete compute shader that runs `k` once per invocation over flat input words
 /// (binding 0) and writes flat output words (binding 1): the verification harness.
 std::string verify_compute_shader(const EmittedKernel& k, const KernelDef& def);
+
+/// The same harness around `function`, the kernel's GLSL as the renderers embed it
+/// (quadcast::generated::find), so that `quadcast verify` checks the text the stages use.
+std::string verify_compute_shader(const EmittedKernel& k, const KernelDef& def, std::string_view function);
 
 }  // namespace quadcast::codegen

@@ -1,0 +1,36 @@
+// quadcast/gl/stages.hpp -- the stage shaders of a variant key, assembled from the generated kernels
+#pragma once
+// Each traced function is stored once (quadcast/generated/shaders.hpp); the stage plumbing
+// (inputs, outputs, uniforms, fetches, main) is assembled around the kernels a key needs, here at
+// run time. Compiled into the quadcast::gl library (src/gl/stages.cpp, src/gl/spline_stages.cpp).
+
+#include <string>
+#include <vector>
+
+#include "quadcast/render/variant_key.hpp"
+
+namespace quadcast::gl {
+
+/// One stage shader of a program.
+struct StageText {
+    enum class Kind { vertex, fragment, compute };
+    Kind kind;
+    std::string name;  ///< a file-like name for messages, e.g. `qc_quadric_slab_nocull_ortho.frag`
+    std::string text;  ///< the complete GLSL, `#version 450 core` first
+};
+
+/// The vertex and fragment stages of the quadric pass for `k` (canonical or not); throws
+/// std::invalid_argument for a key without stages (render::check).
+std::vector<StageText> program_stages(const render::QuadricKey& k);
+
+/// The full-screen vertex stage and the fragment stage of the deferred pass.
+std::vector<StageText> program_stages(const render::DeferredKey& k);
+
+/// The vertex and fragment stages of the isosurface pass.
+std::vector<StageText> program_stages(const render::IsoKey& k);
+
+/// The compute pre-pass of the `precomputed` isosurface stages (QSS and S31): the coefficients of
+/// every drawn tetrahedron by repeated averaging.
+StageText coefficient_stage(render::VolumeScheme s);
+
+}  // namespace quadcast::gl

@@ -1,0 +1,186 @@
+// quadcast/render/variant_key.hpp -- the feature bits that name a shader variant (generator, GL renderers, tests)
+#pragma once
+// One typed key per pass instead of names parsed by prefix: the GL renderers ask for the program
+// of a key, quadcast::gl::program_stages assembles its stages from the generated kernels, the
+// kernel registry names the fragment kernels with `fragment_kernel_name`, and a test validates the
+// stages of every key `all_*_keys` lists. Not GL-specific: no GL types here.
+
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "quadcast/raycast.hpp"
+#include "quadcast/render/types.hpp"
+
+namespace quadcast::render {
+
+/// Which reconstruction of the samples is rendered.
+enum class VolumeScheme : std::uint8_t { qss, s31, trilinear };
+
+/// "qss", "s31", "trilinear".
+constexpr const char* volume_scheme_name(VolumeScheme s) {
+    return s == VolumeScheme::qss ? "qss" : s == VolumeScheme::s31 ? "s31" : "trilinear";
+}
+
+/// The cast a quadric fragment stage does (quadcast::CastOptions without culling); open slabs use
+/// the slab stages (their caps come from the record).
+enum class FragmentShape : std::uint8_t { ellipsoid, slab, bounded, planes, sphere };
+inline constexpr FragmentShape fragment_shapes[] = {FragmentShape::ellipsoid, FragmentShape::slab, FragmentShape::bounded,
+                                                    FragmentShape::planes, FragmentShape::sphere};
+
+/// "ellipsoid", "slab", "bounded", "planes", "sphere".
+constexpr const char* shape_name(FragmentShape s) {
+    switch (s) {
+    case FragmentShape::ellipsoid: return "ellipsoid";
+    case FragmentShape::slab: return "slab";
+    case FragmentShape::bounded: return "bounded";
+    case FragmentShape::planes: return "planes";
+    case FragmentShape::sphere: return "sphere";
+    }
+    return "?";
+}
+
+constexpr FragmentShape fragment_shape(CastOptions o) {
+    return o.sphere ? FragmentShape::sphere : o.planes ? FragmentShape::planes : o.slab ? FragmentShape::slab
+         : o.bound ? FragmentShape::bounded : FragmentShape::ellipsoid;
+}
+constexpr FragmentShape fragment_shape(Variant v) { return fragment_shape(cast_options(v, true)); }
+
+/// Name of the traced fragment kernel of a shape: fragment_<shape>[_nocull][_brute] (codegen/kernels).
+constexpr const char* fragment_kernel_name(FragmentShape s, bool cull, bool brute = false) {
+    switch (s) {
+    case FragmentShape::ellipsoid:
+        return brute ? (cull ? "fragment_ellipsoid_brute" : "fragment_ellipsoid_nocull_brute") : cull ? "fragment_ellipsoid" : "fragment_ellipsoid_nocull";
+    case FragmentShape::slab:
+        return brute ? (cull ? "fragment_slab_brute" : "fragment_slab_nocull_brute") : cull ? "fragment_slab" : "fragment_slab_nocull";
+    case FragmentShape::bounded:
+        return brute ? (cull ? "fragment_bounded_brute" : "fragment_bounded_nocull_brute") : cull ? "fragment_bounded" : "fragment_bounded_nocull";
+    case FragmentShape::planes:
+        return brute ? (cull ? "fragment_planes_brute" : "fragment_planes_nocull_brute") : cull ? "fragment_planes" : "fragment_planes_nocull";
+    case FragmentShape::sphere: return cull ? "fragment_sphere" : "fragment_sphere_nocull";
+    }
+    return "?";
+}
+constexpr const char* fragment_kernel_name(CastOptions o, bool brute = false) { return fragment_kernel_name(fragment_shape(o), o.cull, brute); }
+
+/// Which fragment stage the quadric pass uses: the incremental cast of the interpolated ray; brute
+/// force (the pixel's ray from gl_FragCoord, then `local_ray` and `cast` per fragment; benchmark
+/// baseline, perspective camera, forward shading, no sphere variant); or a pass-through stage
+/// (constant colour, rasterised depth: the fill-rate ceiling).
+enum class FragmentStage : std::uint8_t { incremental, brute_force, passthrough };
+
+/// A program of the quadric pass.
+struct QuadricKey {
+    FragmentShape shape = FragmentShape::ellipsoid;
+    bool cull = true;          ///< per-fragment (and, perspective, per-primitive) back-face culling
+    bool ortho = false;        ///< orthographic camera
+    bool gbuffer = false;      ///< write the geometry buffer of deferred shading instead of shading
+    bool environment = false;  ///< forward shading mixes in the environment reflection
+    FragmentStage stage = FragmentStage::incremental;
+    friend constexpr bool operator==(const QuadricKey&, const QuadricKey&) = default;
+};
+
+/// The key of what a renderer asks for, with the bits that do not change the stages cleared: open
+/// slabs are never culled, the geometry buffer and the benchmark stages do not shade (no
+/// environment), the pass-through stage depends only on the vertex stage (sphere or not, camera).
+constexpr QuadricKey canonical(QuadricKey k) {
+    if (k.gbuffer || k.stage != FragmentStage::incremental) k.environment = false;
+    if (k.stage == FragmentStage::passthrough) {
+        k.cull = true;
+        if (k.shape != FragmentShape::sphere) k.shape = FragmentShape::ellipsoid;
+    }
+    return k;
+}
+
+constexpr QuadricKey quadric_key(Variant v, bool culling, bool ortho, bool gbuffer, bool environment,
+                                 FragmentStage stage = FragmentStage::incremental) {
+    return canonical(QuadricKey{fragment_shape(v), cast_options(v, culling).cull, ortho, gbuffer, environment, stage});
+}
+
+/// Throws std::invalid_argument naming why no stages exist for `k`.
+inline void check(const QuadricKey& k) {
+    if (k.stage == FragmentStage::incremental) return;
+    const char* what = k.stage == FragmentStage::brute_force ? "the brute-force fragment stage" : "the pass-through fragment stage";
+    if (k.gbuffer) throw std::invalid_argument(std::string(what) + " shades forward only (no geometry buffer)");
+    if (k.stage == FragmentStage::brute_force && k.ortho) throw std::invalid_argument(std::string(what) + " needs a perspective camera");
+    if (k.stage == FragmentStage::brute_force && k.shape == FragmentShape::sphere)
+        throw std::invalid_argument(std::string(what) + " has no sphere variant (use Variant::ellipsoid)");
+}
+
+/// The deferred shading pass (Sigg et al. 2006, sec. 4).
+struct DeferredKey {
+    bool shadows = false;
+    bool silhouettes = false;
+    bool environment = false;
+    friend constexpr bool operator==(const DeferredKey&, const DeferredKey&) = default;
+};
+
+/// A program of the isosurface pass; `precomputed` reads the coefficients the compute pre-pass
+/// wrote (QSS and S31 only).
+struct IsoKey {
+    VolumeScheme scheme = VolumeScheme::qss;
+    bool ortho = false;
+    bool gbuffer = false;
+    bool precomputed = false;
+    friend constexpr bool operator==(const IsoKey&, const IsoKey&) = default;
+};
+
+inline void check(const IsoKey& k) {
+    if (k.precomputed && k.scheme == VolumeScheme::trilinear)
+        throw std::invalid_argument("trilinear cells have no precomputed coefficients");
+}
+
+/// A unique, readable name of each key (program cache, error messages), e.g.
+/// `quadric:slab_nocull:ortho:gbuffer`.
+inline std::string key_name(const QuadricKey& k) {
+    std::string s = std::string("quadric:") + shape_name(k.shape) + (k.cull ? "" : "_nocull") + (k.ortho ? ":ortho" : ":perspective");
+    if (k.gbuffer) s += ":gbuffer";
+    if (k.environment) s += ":environment";
+    if (k.stage == FragmentStage::brute_force) s += ":brute";
+    if (k.stage == FragmentStage::passthrough) s += ":passthrough";
+    return s;
+}
+inline std::string key_name(const DeferredKey& k) {
+    return std::string("deferred") + (k.shadows ? ":shadows" : "") + (k.silhouettes ? ":silhouettes" : "") + (k.environment ? ":environment" : "");
+}
+inline std::string key_name(const IsoKey& k) {
+    return std::string("iso:") + volume_scheme_name(k.scheme) + (k.ortho ? ":ortho" : ":perspective") + (k.gbuffer ? ":gbuffer" : "") +
+           (k.precomputed ? ":precomputed" : "");
+}
+
+/// Every canonical quadric key a renderer can ask for.
+inline std::vector<QuadricKey> all_quadric_keys() {
+    std::vector<QuadricKey> out;
+    for (FragmentShape s : fragment_shapes)
+        for (bool cull : {true, false})
+            for (bool ortho : {false, true}) {
+                out.push_back({s, cull, ortho, false, false});
+                out.push_back({s, cull, ortho, false, true});
+                out.push_back({s, cull, ortho, true, false});
+                if (!ortho && s != FragmentShape::sphere) out.push_back({s, cull, false, false, false, FragmentStage::brute_force});
+            }
+    for (bool ortho : {false, true})
+        for (FragmentShape s : {FragmentShape::ellipsoid, FragmentShape::sphere}) out.push_back({s, true, ortho, false, false, FragmentStage::passthrough});
+    return out;
+}
+
+inline std::vector<DeferredKey> all_deferred_keys() {
+    std::vector<DeferredKey> out;
+    for (bool env : {false, true})
+        for (bool shadows : {false, true})
+            for (bool sil : {false, true}) out.push_back({shadows, sil, env});
+    return out;
+}
+
+inline std::vector<IsoKey> all_iso_keys() {
+    std::vector<IsoKey> out;
+    for (VolumeScheme s : {VolumeScheme::qss, VolumeScheme::s31, VolumeScheme::trilinear})
+        for (bool ortho : {false, true})
+            for (bool gbuffer : {false, true})
+                for (bool pre : {false, true})
+                    if (!pre || s != VolumeScheme::trilinear) out.push_back({s, ortho, gbuffer, pre});
+    return out;
+}
+
+}  // namespace quadcast::render

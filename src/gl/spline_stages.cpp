@@ -1,0 +1,328 @@
+// src/gl/spline_stages.cpp -- vertex/fragment shaders of the isosurface renderer (QSS, S31,
+// trilinear), assembled per variant key around the generated kernels. The plumbing here only moves data (records, the
+// determining set gathered through the rotation tables, varyings, uniforms); every number it
+// outputs comes from a traced function (Kalbe & Zeilfelder 2008, Sect. 5).
+#include <array>
+#include <sstream>
+
+#include "quadcast/bb/multi_index.hpp"
+#include "quadcast/spline/masks.hpp"
+#include "quadcast/spline/partition.hpp"
+#include "stage_builder.hpp"
+
+namespace quadcast::gl {
+
+namespace {
+
+using detail::add_kernel;
+using detail::Stage;
+using detail::stage_text;
+using Scheme = render::VolumeScheme;
+
+const char* scheme_name(Scheme s) { return render::volume_scheme_name(s); }
+int degree(Scheme s) { return s == Scheme::qss ? 2 : 3; }
+
+/// Flat varyings of a cell's data: the BB-coefficients (10 or 20) or the 8 trilinear corners,
+/// as vec4 groups named like the traced kernels' parameters (`qc_c0` ... or `qc_corners0`, ...).
+struct Groups {
+    std::string name;
+    std::array<int, 5> sizes{};
+    int count = 0;
+};
+
+Groups cell_groups(Scheme s) {
+    if (s == Scheme::trilinear) return {"corners", {4, 4}, 2};
+    if (s == Scheme::qss) return {"c", {4, 4, 2}, 3};
+    return {"c", {4, 4, 4, 4, 4}, 5};
+}
+
+const char* vec_type(int n) { return n == 1 ? "float" : n == 2 ? "vec2" : n == 3 ? "vec3" : "vec4"; }
+
+/// The vertices of tetrahedron t (spec §1.2) in an order of positive orientation
+/// (det(v1 - v0, v2 - v0, v3 - v0) > 0; vertices 2 and 3 swapped where needed), so that one index
+/// pattern lists the four faces counter-clockwise seen from outside.
+std::array<spline::IVec3, 4> oriented_tet(int t) {
+    auto v = spline::tet_vertices(t);
+    const auto sub = [](const spline::IVec3& a, const spline::IVec3& b) { return spline::IVec3{a[0] - b[0], a[1] - b[1], a[2] - b[2]}; };
+    const spline::IVec3 a = sub(v[1], v[0]), b = sub(v[2], v[0]), c = sub(v[3], v[0]);
+    const int det = a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) + a[2] * (b[0] * c[1] - b[1] * c[0]);
+    if (det == 0) throw std::logic_error("quadcast::gl: degenerate tetrahedron");
+    if (det < 0) std::swap(v[2], v[3]);
+    return v;
+}
+
+std::string ivec3_literal(const spline::IVec3& v) {
+    std::ostringstream s;
+    s << "vec3(" << v[0] << ".0, " << v[1] << ".0, " << v[2] << ".0)";
+    return s.str();
+}
+
+/// The rotation of the determining set as a gather table (`d_rot[k] = d[qc_perm[n t + k]]`).
+std::string permutation_table(Scheme scheme) {
+    const int n = spline::d_count(degree(scheme));
+    std::ostringstream m;
+    m << "// d_rot[k] = d[qc_perm[" << n << " t + k]]: the determining set seen from tetrahedron t\n"
+         "// (quadcast::spline::d_permutations).\n"
+         "const int qc_perm[" << spline::tets_per_cube * n << "] = int[](";
+    static constexpr auto perm2 = spline::d_permutations<2>();
+    static constexpr auto perm3 = spline::d_permutations<3>();
+    for (int t = 0; t < spline::tets_per_cube; ++t)
+        for (int k = 0; k < n; ++k) {
+            const auto ti = static_cast<std::size_t>(t), ki = static_cast<std::size_t>(k);
+            const int v = degree(scheme) == 2 ? perm2[ti][ki] : perm3[ti][ki];
+            m << (t == 0 && k == 0 ? "" : ", ") << ((t * n + k) % 24 == 0 ? "\n    " : "") << v;
+        }
+    m << ");\n";
+    return m.str();
+}
+
+/// The statements that gather tetrahedron t's view of the determining set of cube `slot` and
+/// call the repeated averaging into the outputs `out0`, `out1`, ... (vec4 groups).
+std::string averaging_call(Scheme scheme, const std::string& out) {
+    const int n = spline::d_count(degree(scheme));
+    const Groups g = cell_groups(scheme);
+    std::ostringstream m;
+    m << "    float d[" << n << "];\n"
+         "    for (int j = 0; j < " << n << "; ++j) d[j] = qc_dsets[slot * " << n << "u + uint(qc_perm[" << n << " * t + j])];\n"
+         "    qc_spline_" << scheme_name(scheme) << "_tet0_coefficients(";
+    for (int j = 0; j < n / 4; ++j) m << (j ? ", " : "") << "vec4(d[" << 4 * j << "], d[" << 4 * j + 1 << "], d[" << 4 * j + 2 << "], d[" << 4 * j + 3 << "])";
+    for (int i = 0; i < g.count; ++i) m << ", " << out << i;
+    m << ");\n";
+    return m.str();
+}
+
+/// Declarations shared by the vertex stages: the drawn cells and the camera/volume uniforms.
+const char* vertex_uniforms =
+    "// One record per drawn element (a relevant tetrahedron or an active trilinear cell):\n"
+    "// xyz = integer anchor (cube centre or cell corner, index space), w = slot << 5 | tetrahedron.\n"
+    "layout(std430, binding = 0) readonly buffer qc_Elements { uvec4 qc_elements[]; };\n"
+    "uniform uint qc_first;\n"
+    "uniform vec3 qc_eye_index;      // the eye in index space\n"
+    "uniform vec3 qc_eye_world;\n"
+    "uniform vec3 qc_forward_world;  // viewing direction (orthographic cameras)\n"
+    "uniform vec3 qc_origin;         // world position of sample (0,0,0)\n"
+    "uniform vec3 qc_spacing;        // world distance of neighbouring samples per axis\n"
+    "uniform mat4 qc_view_proj;\n"
+    "uniform vec3 qc_vz_row;         // third row of the world->view rotation\n\n";
+
+/// `precomputed`: the coefficients come from the storage buffer the compute pre-pass
+/// (`coefficient_shader`) filled, one record per element, instead of being averaged per vertex.
+Stage vertex_shader(Scheme scheme, bool ortho, bool precomputed = false) {
+    Stage s;
+    std::ostringstream fns;
+    const std::string proj = ortho ? "ortho" : "perspective";
+    const bool tri = scheme == Scheme::trilinear;
+    if (!tri && !precomputed) add_kernel(s, fns, std::string("spline_") + scheme_name(scheme) + "_tet0_coefficients");
+    add_kernel(s, fns, "spline_cell_vertex_" + proj);
+    const Groups g = cell_groups(scheme);
+    // The face point o is interpolated; its ray parameter w is 1 for perspective cameras, the
+    // direction is constant for orthographic ones.
+    const char* oq = ortho ? "" : "flat ";
+    const char* vq = ortho ? "flat " : "";
+    std::ostringstream m;
+    m << vertex_uniforms;
+    if (tri) {
+        m << "layout(std430, binding = 1) readonly buffer qc_Samples { float qc_samples[]; };  // i fastest\n"
+             "uniform ivec3 qc_dims;\n\n"
+             "// Corner k of a cell: offset (k & 1, (k >> 1) & 1, (k >> 2) & 1).\n";
+    } else {
+        const int n = spline::d_count(degree(scheme));
+        if (precomputed)
+            m << "layout(std430, binding = 2) readonly buffer qc_Coefficients { float qc_coeffs[]; };  // "
+              << bb::coefficient_count(degree(scheme)) << " per element\n\n";
+        else
+            m << "layout(std430, binding = 1) readonly buffer qc_DeterminingSets { float qc_dsets[]; };  // " << n << " per active cube\n\n"
+              << permutation_table(scheme);
+        m << "// Cube-local vertices of tetrahedron t (quadcast::spline::tet_vertices), positively oriented.\n"
+             "const vec3 qc_tet_vertices[" << 4 * spline::tets_per_cube << "] = vec3[](";
+        for (int t = 0; t < spline::tets_per_cube; ++t) {
+            const auto v = oriented_tet(t);
+            for (int k = 0; k < 4; ++k) m << (t == 0 && k == 0 ? "\n    " : k == 0 ? ",\n    " : ", ") << ivec3_literal(v[static_cast<std::size_t>(k)]);
+        }
+        m << ");\n\n";
+    }
+    for (int i = 0; i < g.count; ++i) m << "flat out " << vec_type(g.sizes[static_cast<std::size_t>(i)]) << " qc_" << g.name << i << ";\n";
+    if (!tri) m << "flat out uint qc_tet;\n";
+    m << "out vec3 qc_o;\n" << oq << "out float qc_w;\n" << vq << "out vec3 qc_v;\n" << vq << "out vec3 qc_dir;\n" << vq << "out float qc_vz;\n\n";
+    m << fns.str();
+    const int per = tri ? 8 : 4;
+    m << "// Indexed draw: vertex " << per << " e + k is vertex k of element qc_first + e.\n"
+         "void main()\n{\n"
+         "    uint e = qc_first + uint(gl_VertexID) / " << per << "u;\n"
+         "    int k = gl_VertexID % " << per << ";\n"
+         "    uvec4 rec = qc_elements[e];\n";
+    if (tri) {
+        m << "    ivec3 c = ivec3(rec.xyz);\n"
+             "    float f[8];\n"
+             "    for (int j = 0; j < 8; ++j) {\n"
+             "        ivec3 q = c + ivec3(j & 1, (j >> 1) & 1, (j >> 2) & 1);\n"
+             "        f[j] = qc_samples[q.x + qc_dims.x * (q.y + qc_dims.y * q.z)];\n"
+             "    }\n"
+             "    qc_corners0 = vec4(f[0], f[1], f[2], f[3]);\n"
+             "    qc_corners1 = vec4(f[4], f[5], f[6], f[7]);\n"
+             "    vec3 offset = vec3(float(k & 1), float((k >> 1) & 1), float((k >> 2) & 1));\n"
+             "    vec2 scale = vec2(1.0, 1.0);\n";
+    } else {
+        m << "    uint slot = rec.w >> 5u;\n"
+             "    int t = int(rec.w & 31u);\n";
+        if (precomputed) {
+            const int nc = bb::coefficient_count(degree(scheme));
+            for (int i = 0; i < g.count; ++i) {
+                const int size = g.sizes[static_cast<std::size_t>(i)];
+                m << "    qc_c" << i << " = " << vec_type(size) << "(";
+                for (int j = 0; j < size; ++j) m << (j ? ", " : "") << "qc_coeffs[" << nc << "u * e + " << 4 * i + j << "u]";
+                m << ");\n";
+            }
+        } else {
+            m << averaging_call(scheme, "qc_c");
+        }
+        m << "    qc_tet = uint(t);\n"
+             "    vec3 offset = qc_tet_vertices[4 * t + k];\n"
+             "    vec2 scale = vec2(0.5, 2.0);\n";
+    }
+    m << "    vec4 clip;\n"
+         "    qc_spline_cell_vertex_" << proj << "(vec3(rec.xyz), offset, scale, qc_eye_index, qc_eye_world, qc_forward_world, qc_origin, qc_spacing,\n"
+         "        qc_view_proj, qc_vz_row, clip, qc_o, qc_w, qc_v, qc_dir, qc_vz);\n"
+         "    gl_Position = clip;\n"
+         "}\n";
+    s.text = m.str();
+    return s;
+}
+
+/// The isosurface pass: forward (cast and shade) or, with `gbuffer`, cast and write the quadric
+/// renderer's geometry buffer (normal + depth, ray direction, colour), so its deferred pass,
+/// shadows and silhouettes apply unchanged.
+Stage fragment_shader(Scheme scheme, bool ortho, bool gbuffer) {
+    Stage s;
+    std::ostringstream fns;
+    const bool tri = scheme == Scheme::trilinear;
+    const std::string kernel = tri ? std::string("trilinear_fragment") : std::string("spline_fragment_q") + std::to_string(degree(scheme));
+    add_kernel(s, fns, kernel);
+    if (!gbuffer) add_kernel(s, fns, "shade_blinn_phong");
+    const Groups g = cell_groups(scheme);
+    const char* oq = ortho ? "" : "flat ";
+    const char* vq = ortho ? "flat " : "";
+    std::ostringstream m;
+    m << "uniform vec4 qc_pz;           // P22, P32, P23, P33 of the projection\n"
+         "uniform float qc_rho;         // the isovalue\n"
+         "uniform vec3 qc_grad_scale;   // cube-local gradient -> world gradient, per axis\n"
+         "uniform float qc_pixel;       // a pixel's angle (perspective) or world width (orthographic): 2 / (P11 height)\n"
+         "uniform vec3 qc_color;\n";
+    if (!gbuffer) m << "uniform vec3 qc_light_dir;    // towards the scene\nuniform vec3 qc_light_color;\n";
+    m << "uniform vec4 qc_material;     // ambient, diffuse, specular, shininess\n";
+    if (!tri) {
+        m << "// R_t (quadcast::spline::rotation), column-major.\n"
+             "const mat3 qc_rotations[" << spline::tets_per_cube << "] = mat3[](";
+        for (int t = 0; t < spline::tets_per_cube; ++t) {
+            const spline::IMat3 r = spline::rotation(t);
+            m << (t ? ",\n    " : "\n    ") << "mat3(";
+            for (int j = 0; j < 3; ++j)
+                for (int i = 0; i < 3; ++i) m << (i || j ? ", " : "") << r[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)] << ".0";
+            m << ")";
+        }
+        m << ");\n";
+    }
+    m << "\n";
+    for (int i = 0; i < g.count; ++i) m << "flat in " << vec_type(g.sizes[static_cast<std::size_t>(i)]) << " qc_" << g.name << i << ";\n";
+    if (!tri) m << "flat in uint qc_tet;\n";
+    m << "in vec3 qc_o;\n" << oq << "in float qc_w;\n" << vq << "in vec3 qc_v;\n" << vq << "in vec3 qc_dir;\n" << vq << "in float qc_vz;\n";
+    if (gbuffer)
+        m << "layout(location = 0) out vec4 qc_gnormal;  // normal (unnormalised), window depth\n"
+             "layout(location = 1) out vec4 qc_gview;    // ray direction, shininess (> 0: covered)\n"
+             "layout(location = 2) out vec4 qc_gcolor;   // colour, specular\n\n";
+    else
+        m << "layout(location = 0) out vec4 qc_color_out;\n\n";
+    m << fns.str();
+    m << "void main()\n{\n"
+         "    bool hit;\n    float depth;\n    vec3 n;\n"
+         "    qc_" << kernel << "(";
+    for (int i = 0; i < g.count; ++i) m << "qc_" << g.name << i << ", ";
+    if (!tri) m << "qc_rotations[qc_tet], ";
+    m << "qc_o, qc_w, qc_v, qc_vz, qc_pz, qc_rho, qc_grad_scale, qc_pixel, hit, depth, n);\n"
+         "    if (!hit) discard;\n"
+         "    gl_FragDepth = depth;\n";
+    if (gbuffer)
+        m << "    qc_gnormal = vec4(n, depth);\n"
+             "    qc_gview = vec4(qc_dir, qc_material.w);\n"
+             "    qc_gcolor = vec4(qc_color, qc_material.z);\n"
+             "}\n";
+    else
+        m << "    vec3 rgb;\n"
+             "    qc_shade_blinn_phong(n, -qc_light_dir, -qc_dir, qc_color, qc_light_color, qc_material, rgb);\n"
+             "    qc_color_out = vec4(rgb, 1.0);\n"
+             "}\n";
+    s.text = m.str();
+    return s;
+}
+
+/// The compute pre-pass of the `precomputed` vertex stages: per element (relevant tetrahedron)
+/// of the frame the coefficients by repeated averaging, once instead of once per vertex, written
+/// to the storage buffer the vertex stage reads.
+Stage coefficient_shader(Scheme scheme) {
+    Stage s;
+    std::ostringstream fns;
+    add_kernel(s, fns, std::string("spline_") + scheme_name(scheme) + "_tet0_coefficients");
+    const Groups g = cell_groups(scheme);
+    const int nc = bb::coefficient_count(degree(scheme)), n = spline::d_count(degree(scheme));
+    std::ostringstream m;
+    m << "layout(local_size_x = 64) in;\n\n"
+         "layout(std430, binding = 0) readonly buffer qc_Elements { uvec4 qc_elements[]; };\n"
+         "layout(std430, binding = 1) readonly buffer qc_DeterminingSets { float qc_dsets[]; };  // " << n << " per active cube\n"
+         "layout(std430, binding = 2) writeonly buffer qc_Coefficients { float qc_coeffs[]; };  // " << nc << " per element\n"
+         "uniform uint qc_count;\n\n"
+      << permutation_table(scheme) << "\n" << fns.str()
+      << "void main()\n{\n"
+         "    uint e = gl_GlobalInvocationID.x;\n"
+         "    if (e >= qc_count) return;\n"
+         "    uvec4 rec = qc_elements[e];\n"
+         "    uint slot = rec.w >> 5u;\n"
+         "    int t = int(rec.w & 31u);\n";
+    for (int i = 0; i < g.count; ++i) m << "    " << vec_type(g.sizes[static_cast<std::size_t>(i)]) << " c" << i << ";\n";
+    m << averaging_call(scheme, "c");
+    for (int i = 0; i < g.count; ++i)
+        for (int j = 0; j < g.sizes[static_cast<std::size_t>(i)]; ++j)
+            m << "    qc_coeffs[" << nc << "u * e + " << 4 * i + j << "u] = c" << i << "." << "xyzw"[j] << ";\n";
+    m << "}\n";
+    s.text = m.str();
+    return s;
+}
+
+}  // namespace
+
+namespace {
+
+std::string kind_name(Scheme scheme) {
+    return scheme == Scheme::trilinear ? "trilinear cells" : std::string(scheme == Scheme::qss ? "QSS" : "S31") + " tetrahedra";
+}
+
+}  // namespace
+
+std::vector<StageText> program_stages(const render::IsoKey& k) {
+    render::check(k);
+    const Scheme scheme = k.scheme;
+    const std::string what = std::string(scheme_name(scheme)) + "_" + (k.ortho ? "ortho" : "perspective");
+    const std::string cam = std::string(k.ortho ? "orthographic" : "perspective") + " camera";
+    const std::string kind = kind_name(scheme);
+    std::vector<StageText> out;
+    if (k.precomputed)
+        out.push_back(stage_text(StageText::Kind::vertex, "qc_iso_" + what + "_precomputed.vert", vertex_shader(scheme, k.ortho, true),
+                                 "isosurface renderer: vertex stage reading the coefficients of the compute pre-pass, " + kind + ", " + cam));
+    else
+        out.push_back(stage_text(StageText::Kind::vertex, "qc_iso_" + what + ".vert", vertex_shader(scheme, k.ortho), "isosurface renderer: vertex stage, " + kind + ", " + cam));
+    if (k.gbuffer)
+        out.push_back(stage_text(StageText::Kind::fragment, "qc_iso_gbuffer_" + what + ".frag", fragment_shader(scheme, k.ortho, true),
+                                 "isosurface renderer: geometry-buffer fragment stage (deferred shading), " + kind + ", " + cam));
+    else
+        out.push_back(stage_text(StageText::Kind::fragment, "qc_iso_" + what + ".frag", fragment_shader(scheme, k.ortho, false),
+                                 "isosurface renderer: fragment stage, " + kind + ", " + cam));
+    return out;
+}
+
+StageText coefficient_stage(Scheme scheme) {
+    if (scheme == Scheme::trilinear) throw std::invalid_argument("quadcast::gl::coefficient_stage: trilinear cells have no coefficients");
+    return stage_text(StageText::Kind::compute, std::string("qc_iso_") + scheme_name(scheme) + "_coefficients.comp", coefficient_shader(scheme),
+                      std::string("isosurface renderer: compute pre-pass, the ") + (scheme == Scheme::qss ? "QSS" : "S31") +
+                          " coefficients of every drawn tetrahedron by repeated averaging");
+}
+
+}  // namespace quadcast::gl

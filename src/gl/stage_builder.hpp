@@ -1,0 +1,57 @@
+// src/gl/stage_builder.hpp -- assembling a stage shader around generated kernels (internal to quadcast::gl)
+#pragma once
+
+#include <set>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+
+#include "quadcast/generated/shaders.hpp"
+#include "quadcast/gl/stages.hpp"
+
+namespace quadcast::gl::detail {
+
+/// A stage shader under construction: the generated functions it calls, the operations they use
+/// and the C++ templates they come from (for the banner).
+struct Stage {
+    std::string text;
+    std::set<std::string> ops;
+    std::string sources;
+};
+
+/// Appends generated kernel `qc_<name>` to `fns` and records its operations and templates in `s`;
+/// a stage needing a kernel that is not generated is a bug (run `make regenerate`).
+inline void add_kernel(Stage& s, std::ostringstream& fns, const std::string& name) {
+    const generated::Kernel* k = generated::find_kernel("qc_" + name);
+    if (!k) throw std::logic_error("quadcast::gl: a stage shader needs kernel qc_" + name + ", which is not generated");
+    fns << k->function << "\n";
+    std::string_view ops = k->operations;
+    while (!ops.empty()) {
+        const std::size_t sp = ops.find(' ');
+        s.ops.insert(std::string(ops.substr(0, sp)));
+        ops = sp == std::string_view::npos ? std::string_view() : ops.substr(sp + 1);
+    }
+    s.sources += (s.sources.empty() ? "" : "; ") + std::string(k->templates);
+}
+
+/// The banner of an assembled stage (what the generated files' banners say, for the whole stage).
+inline std::string banner(const std::string& name, const Stage& s, const std::string& summary) {
+    std::ostringstream b;
+    b << "// " << name << " -- assembled by quadcast::gl::program_stages from the generated kernels (generated/glsl/kernels).\n";
+    b << "// " << summary << "\n";
+    b << "// Traced from: " << s.sources << "\n";
+    b << "// Operations: ";
+    bool first = true;
+    for (auto& o : s.ops) { b << (first ? "" : " ") << o; first = false; }
+    b << "\n// Numerics: float; every operation is its own `precise` statement (no contraction, no\n"
+         "// reassociation); literals are exact; no built-in whose rounding differs from the CPU.\n";
+    return b.str();
+}
+
+/// The complete text of stage `s`: version line, banner, text.
+inline StageText stage_text(StageText::Kind kind, const std::string& name, const Stage& s, const std::string& summary) {
+    return {kind, name, "#version 450 core\n" + banner(name, s, summary) + "\n" + s.text};
+}
+
+}  // namespace quadcast::gl::detail

@@ -1,0 +1,361 @@
+// src/gl/stages.cpp -- the vertex/fragment shaders of the quadric renderer and its deferred pass,
+// assembled per variant key around the generated kernels. The plumbing here only moves data
+// (records, varyings, uniforms, picks by index); every number it outputs comes from a traced function.
+#include "quadcast/gl/stages.hpp"
+
+#include <sstream>
+
+#include "quadcast/render/record.hpp"
+#include "quadcast/shading.hpp"
+#include "stage_builder.hpp"
+
+namespace quadcast::gl {
+
+namespace {
+
+using detail::add_kernel;
+using detail::Stage;
+using detail::stage_text;
+using render::FragmentShape;
+
+/// The record array and its accessors (quadcast::render::record_layout, which the GL renderer
+/// packs with quadcast::render::pack_record).
+const std::string record_glsl = render::record_glsl();
+
+/// Environment reflection (forward and deferred shading): the latitude-longitude image and the
+/// reflectivity, and the lookup around the traced kernels: `environment_texel` gives the position,
+/// the plumbing fetches the four texels around it (columns wrap, rows clamp; floor(position)
+/// clamped to [-1, size - 1], which holds every finite position) and `environment_mix` blends
+/// them into the colour. quadcast::render::reflect_environment is the same on the CPU.
+const char* environment_glsl =
+    "vec3 qc_reflect_environment(vec3 rgb, vec3 n, vec3 e)\n{\n"
+    "    ivec2 size = textureSize(qc_environment, 0);\n"
+    "    vec2 t;\n"
+    "    qc_environment_texel(n, e, vec2(size), t);\n"
+    "    vec2 b = clamp(floor(t), vec2(-1.0), vec2(size - 1));\n"
+    "    ivec2 i = ivec2(b);\n"
+    "    int x0 = i.x < 0 ? size.x - 1 : i.x, x1 = i.x + 1 < size.x ? i.x + 1 : 0;\n"
+    "    int y0 = max(i.y, 0), y1 = min(i.y + 1, size.y - 1);\n"
+    "    vec3 mixed;\n"
+    "    qc_environment_mix(rgb, t, b, texelFetch(qc_environment, ivec2(x0, y0), 0).rgb, texelFetch(qc_environment, ivec2(x1, y0), 0).rgb,\n"
+    "        texelFetch(qc_environment, ivec2(x0, y1), 0).rgb, texelFetch(qc_environment, ivec2(x1, y1), 0).rgb, qc_reflectivity, mixed);\n"
+    "    return mixed;\n}\n\n";
+
+const char* environment_uniforms =
+    "layout(binding = 4) uniform sampler2D qc_environment;  // latitude-longitude RGBA32F, row 0 = straight up\n"
+    "uniform float qc_reflectivity;\n";
+
+Stage vertex_shader(bool ortho) {
+    Stage s;
+    std::ostringstream fns;
+    const std::string proj = ortho ? "ortho" : "perspective";
+    add_kernel(s, fns, "primitive_bound_" + proj);
+    add_kernel(s, fns, "primitive_vertex_" + proj);
+    const char* q = ortho ? "" : "flat ";  // constant over the quad for one camera model
+    const char* vq = ortho ? "flat " : "";
+    std::ostringstream m;
+    m << record_glsl;
+    m << "uniform mat4 qc_view;\nuniform mat4 qc_projection;\nuniform mat3 qc_view_rot_inv;\nuniform vec3 qc_eye;\n"
+         "uniform vec3 qc_near_corners[4];  // view space, used when the eye is inside a bounding sphere\n"
+         "uniform bool qc_cull;\nuniform bool qc_caps;   // the variant closes a slab with caps\nuniform uint qc_first;\n\n"
+         "flat out uint qc_prim;\n"
+      << q << "out vec3 qc_o;\n" << vq << "out vec3 qc_v;\n" << q << "out vec3 qc_g;\n" << vq << "out vec3 qc_a;\n\n";
+    m << fns.str();
+    m << "// Indexed draw: vertex 4 i + k is corner k of primitive qc_first + i (two triangles share two).\n"
+         "void main()\n{\n"
+         "    uint prim = qc_first + uint(gl_VertexID) / 4u;\n"
+         "    int k = gl_VertexID % 4;\n"
+         "    qc_Primitive p = qc_prims[prim];\n"
+         "    mat4 q = qc_record_quadric(p);\n"
+         "    vec3 c0, c1, c2, c3;\n    bool valid;\n"
+         "    qc_primitive_bound_" << proj << "(qc_view, qc_record_center(p), qc_record_radius(p), c0, c1, c2, c3, valid);\n"
+         "    vec3 corners[4] = vec3[4](c0, c1, c2, c3);\n"
+         "    vec3 corner = valid ? corners[k] : qc_near_corners[k];\n"
+         "    bool culled, culled_caps;\n"
+         "    qc_primitive_vertex_" << proj << "(q, qc_record_center(p), qc_record_radius(p), qc_record_axis(p), qc_record_half_length(p), corner, qc_view_rot_inv, qc_eye,\n"
+         "        qc_o, qc_v, qc_g, qc_a, culled, culled_caps);\n"
+         "    qc_prim = prim;\n"
+         "    gl_Position = (qc_cull && (qc_caps ? culled_caps : culled)) ? vec4(2.0, 2.0, 2.0, 1.0) : qc_projection * vec4(corner, 1.0);\n"
+         "}\n";
+    s.text = m.str();
+    return s;
+}
+
+/// The vertex stage of the sphere-specialised variant: the bounding quad as for every primitive,
+/// the ray terms o and v only (`sphere_vertex_*`), no per-primitive culling, and the radius and
+/// colour passed on as flat varyings (its fragment stage reads no record).
+Stage sphere_vertex_shader(bool ortho) {
+    Stage s;
+    std::ostringstream fns;
+    const std::string proj = ortho ? "ortho" : "perspective";
+    add_kernel(s, fns, "primitive_bound_" + proj);
+    add_kernel(s, fns, "sphere_vertex_" + proj);
+    const char* q = ortho ? "" : "flat ";
+    const char* vq = ortho ? "flat " : "";
+    std::ostringstream m;
+    m << record_glsl;
+    m << "uniform mat4 qc_view;\nuniform mat4 qc_projection;\nuniform mat3 qc_view_rot_inv;\nuniform vec3 qc_eye;\n"
+         "uniform vec3 qc_near_corners[4];  // view space, used when the eye is inside a bounding sphere\n"
+         "uniform uint qc_first;\n\n"
+         "flat out float qc_radius;\nflat out vec3 qc_prim_color;\nflat out vec2 qc_prim_material;  // specular, shininess\n"
+      << q << "out vec3 qc_o;\n" << vq << "out vec3 qc_v;\n\n";
+    m << fns.str();
+    m << "// Indexed draw: vertex 4 i + k is corner k of primitive qc_first + i (two triangles share two).\n"
+         "void main()\n{\n"
+         "    uint prim = qc_first + uint(gl_VertexID) / 4u;\n"
+         "    int k = gl_VertexID % 4;\n"
+         "    qc_Primitive p = qc_prims[prim];\n"
+         "    vec3 c0, c1, c2, c3;\n    bool valid;\n"
+         "    qc_primitive_bound_" << proj << "(qc_view, qc_record_center(p), qc_record_radius(p), c0, c1, c2, c3, valid);\n"
+         "    vec3 corners[4] = vec3[4](c0, c1, c2, c3);\n"
+         "    vec3 corner = valid ? corners[k] : qc_near_corners[k];\n"
+         "    qc_sphere_vertex_" << proj << "(qc_record_center(p), corner, qc_view_rot_inv, qc_eye, qc_o, qc_v);\n"
+         "    qc_radius = qc_record_radius(p);\n"
+         "    qc_prim_color = qc_record_color(p);\n"
+         "    qc_prim_material = qc_record_material(p);\n"
+         "    gl_Position = qc_projection * vec4(corner, 1.0);\n"
+         "}\n";
+    s.text = m.str();
+    return s;
+}
+
+/// The quadric pass: forward (cast and shade) or, with `gbuffer`, cast and write the geometry
+/// buffer of the deferred pass (Sigg et al. 2006, sec. 4): normal and window depth, ray direction
+/// (the shading's eye vector) and colour.
+/// With `env`, forward shading mixes in the environment reflection (`qc_reflect_environment`).
+Stage fragment_shader(const render::QuadricKey& k) {
+    Stage s;
+    const bool ortho = k.ortho, gbuffer = k.gbuffer, env = k.environment;
+    const bool brute = k.stage == render::FragmentStage::brute_force;
+    const bool planes = k.shape == FragmentShape::planes;
+    const bool sphere = k.shape == FragmentShape::sphere;  // radius, colour, o, v from the vertex stage
+    const bool slab = k.shape == FragmentShape::slab;
+    const std::string kernel = render::fragment_kernel_name(k.shape, k.cull, brute);
+    std::ostringstream fns;
+    if (brute) add_kernel(s, fns, "pixel_ray");
+    add_kernel(s, fns, kernel);
+    if (!gbuffer) add_kernel(s, fns, "shade_blinn_phong");
+    if (env) {
+        add_kernel(s, fns, "environment_texel");
+        add_kernel(s, fns, "environment_mix");
+        fns << environment_glsl;
+    }
+    const char* q = ortho ? "" : "flat ";
+    const char* vq = ortho ? "flat " : "";
+    std::ostringstream m;
+    if (!sphere) m << record_glsl;
+    if (planes)
+        m << "// Clip planes of the `planes` variant, one set per primitive of the draw (index prim - qc_first).\n"
+             "struct qc_Planes { vec4 p[4]; };\n"
+             "layout(std430, binding = 1) readonly buffer qc_PlaneSets { qc_Planes qc_planes[]; };\n"
+             "uniform uint qc_first;\n\n";
+    if (brute)
+        m << "uniform mat4 qc_inv_view_proj;  // brute force: the pixel's ray from gl_FragCoord\n"
+             "uniform vec3 qc_eye;\nuniform vec2 qc_viewport;\n";
+    m << "uniform vec3 qc_vz_row;       // third row of the world->view rotation\n"
+         "uniform vec4 qc_pz;           // P22, P32, P23, P33 of the projection\n";
+    if (!gbuffer)
+        m << "uniform vec3 qc_light_dir;    // towards the scene\nuniform vec3 qc_light_color;\n"
+             "uniform vec4 qc_material;     // ambient, diffuse, specular, shininess\n";
+    if (env) m << environment_uniforms;
+    if (sphere)
+        m << "\nflat in float qc_radius;\nflat in vec3 qc_prim_color;\nflat in vec2 qc_prim_material;\n" << q << "in vec3 qc_o;\n" << vq << "in vec3 qc_v;\n";
+    else
+        m << "\nflat in uint qc_prim;\n"
+          << q << "in vec3 qc_o;\n" << vq << "in vec3 qc_v;\n" << q << "in vec3 qc_g;\n" << vq << "in vec3 qc_a;\n";
+    if (gbuffer)
+        m << "layout(location = 0) out vec4 qc_gnormal;  // normal (unnormalised), window depth\n"
+             "layout(location = 1) out vec4 qc_gview;    // ray direction, shininess (> 0: covered)\n"
+             "layout(location = 2) out vec4 qc_gcolor;   // colour, specular\n\n";
+    else
+        m << "layout(location = 0) out vec4 qc_color;\n\n";
+    m << fns.str();
+    m << "void main()\n{\n"
+      << (sphere ? "" : "    qc_Primitive p = qc_prims[qc_prim];\n")
+      << "    bool hit;\n    float depth;\n    vec3 n;\n";
+    if (brute)
+        m << "    vec3 ro, rd;\n"
+             "    qc_pixel_ray(qc_inv_view_proj, qc_eye, gl_FragCoord.xy, qc_viewport, ro, rd);\n";
+    const char* eye_vec = brute ? "rd" : "qc_v";
+    const char* color = sphere ? "qc_prim_color" : "qc_record_color(p)";
+    const char* material = sphere ? "qc_prim_material" : "qc_record_material(p)";
+    if (sphere)
+        m << "    qc_" << kernel << "(qc_radius, qc_o, qc_v, qc_vz_row, qc_pz, hit, depth, n);\n";
+    else
+        m << "    qc_" << kernel << "(qc_record_quadric(p), qc_record_center(p), qc_record_radius(p), qc_record_axis(p), qc_record_half_length(p),\n"
+          << (slab ? "        qc_record_caps(p),\n" : "")
+          << (planes ? "        qc_planes[qc_prim - qc_first].p[0], qc_planes[qc_prim - qc_first].p[1], qc_planes[qc_prim - qc_first].p[2], qc_planes[qc_prim - qc_first].p[3],\n" : "")
+          << (brute ? "        ro, rd, qc_vz_row, qc_pz, hit, depth, n);\n" : "        qc_o, qc_v, qc_g, qc_a, qc_vz_row, qc_pz, hit, depth, n);\n");
+    m << "    if (!hit) discard;\n"
+         "    gl_FragDepth = depth;\n";
+    if (gbuffer)
+        m << "    qc_gnormal = vec4(n, depth);\n"
+             "    qc_gview = vec4(" << eye_vec << ", " << material << ".y);\n"
+          << "    qc_gcolor = vec4(" << color << ", " << material << ".x);\n"
+             "}\n";
+    else
+        m << "    vec3 rgb;\n"
+             "    qc_shade_blinn_phong(n, -qc_light_dir, -" << eye_vec << ", " << color << ", qc_light_color, vec4(qc_material.xy, " << material << "), rgb);\n"
+          << (env ? std::string("    rgb = qc_reflect_environment(rgb, n, -") + eye_vec + ");\n" : std::string())
+          << "    qc_color = vec4(rgb, 1.0);\n"
+             "}\n";
+    s.text = m.str();
+    return s;
+}
+
+/// The full-screen triangle of the deferred pass (positions from gl_VertexID; no numbers).
+const char* fullscreen_vertex =
+    "void main()\n{\n"
+    "    vec2 p = vec2(float((gl_VertexID & 1) * 4 - 1), float((gl_VertexID & 2) * 2 - 1));\n"
+    "    gl_Position = vec4(p, 0.0, 1.0);\n"
+    "}\n";
+
+/// The deferred pass (Sigg et al. 2006, sec. 4): per pixel, Blinn-Phong from the geometry buffer
+/// (`shade_blinn_phong` with the same arguments as the forward pass: bit-identical colour), the
+/// background where nothing was hit; with `silhouettes` the outline of `silhouette` from the 3x3
+/// neighbourhood (texel coordinates clamped to the image); with `env` the environment reflection
+/// mixed into the shaded colour before the outline.
+Stage deferred_shader(bool silhouettes, bool shadows, bool env) {
+    Stage s;
+    std::ostringstream fns;
+    add_kernel(s, fns, shadows ? "shade_blinn_phong_shadowed" : "shade_blinn_phong");
+    if (silhouettes) add_kernel(s, fns, "silhouette");
+    if (shadows) {
+        add_kernel(s, fns, "shadow_coord");
+        add_kernel(s, fns, "pcf_first8");
+        add_kernel(s, fns, "pcf64");
+    }
+    if (env) {
+        add_kernel(s, fns, "environment_texel");
+        add_kernel(s, fns, "environment_mix");
+        fns << environment_glsl;
+    }
+    std::ostringstream m;
+    m << "layout(binding = 0) uniform sampler2D qc_gnormal;  // normal, window depth (1 = background)\n"
+         "layout(binding = 1) uniform sampler2D qc_gview;    // ray direction, shininess (0: background)\n"
+         "layout(binding = 2) uniform sampler2D qc_gcolor;   // colour, specular\n"
+         "uniform vec3 qc_light_dir;    // towards the scene\nuniform vec3 qc_light_color;\n"
+         "uniform vec4 qc_material;     // ambient, diffuse, specular, shininess\n"
+         "uniform vec3 qc_background;\n";
+    if (silhouettes)
+        m << "uniform vec4 qc_pz;           // P22, P32, P23, P33 of the projection\n"
+             "uniform vec4 qc_silhouette_params;  // depth threshold, normal threshold, strength, unused\n";
+    if (shadows) {
+        m << "layout(binding = 3) uniform sampler2D qc_shadow_map;  // window depth from the light\n"
+             "uniform mat4 qc_to_light;     // camera NDC -> light clip space\n"
+             "uniform vec2 qc_viewport;\n"
+             "uniform float qc_shadow_size;  // shadow map size (texels)\n"
+             "uniform float qc_shadow_bias;  // light window depth\n"
+             "uniform int qc_pcf_step;       // texels between PCF samples\n"
+             "// PCF samples: grid index (8x8) in quadcast::pcf_grid_order, the first 8 spread out.\n"
+             "const int qc_pcf_order[64] = int[64](";
+        for (int i = 0; i < 64; ++i) m << (i ? ", " : "") << pcf_grid_order[i];
+        m << ");\n";
+    }
+    if (env) m << environment_uniforms;
+    m << "layout(location = 0) out vec4 qc_color;\n\n";
+    m << fns.str();
+    if (shadows)
+        m << "float qc_shadow_sample(ivec2 base, int k)\n{\n"
+             "    int g = qc_pcf_order[k];\n"
+             "    ivec2 o = ivec2(g % 8, g / 8) * qc_pcf_step - (7 * qc_pcf_step) / 2;  // quadcast::pcf_offset\n"
+             "    return texelFetch(qc_shadow_map, clamp(base + o, ivec2(0), textureSize(qc_shadow_map, 0) - 1), 0).r;\n"
+             "}\n\n";
+    m << "void main()\n{\n"
+         "    ivec2 px = ivec2(gl_FragCoord.xy);\n"
+         "    vec4 gn = texelFetch(qc_gnormal, px, 0);\n"
+         "    vec4 gv = texelFetch(qc_gview, px, 0);\n"
+         "    vec4 gc = texelFetch(qc_gcolor, px, 0);\n"
+         "    vec3 rgb = qc_background;\n"
+         "    if (gv.w != 0.0) {\n";
+    if (shadows)
+        m << "        vec2 st;\n        float lz;\n"
+             "        qc_shadow_coord(gl_FragCoord.xy, gn.w, qc_viewport, qc_to_light, qc_shadow_size, st, lz);\n"
+             "        ivec2 base = ivec2(floor(st));\n"
+             "        float s[64];\n"
+             "        for (int k = 0; k < 8; ++k) s[k] = qc_shadow_sample(base, k);\n"
+             "        float vis;\n        bool decided;\n"
+             "        qc_pcf_first8(lz, qc_shadow_bias, s[0], s[1], s[2], s[3], s[4], s[5], s[6], s[7], vis, decided);\n"
+             "        if (!decided) {  // penumbra: all 64 samples (Sigg et al. 2006, sec. 4)\n"
+             "            for (int k = 8; k < 64; ++k) s[k] = qc_shadow_sample(base, k);\n"
+             "            qc_pcf64(lz, qc_shadow_bias";
+    if (shadows) {
+        for (int i = 0; i < 64; ++i) m << (i % 8 == 0 ? ",\n                " : ", ") << "s[" << i << "]";
+        m << ", vis);\n"
+             "        }\n"
+             "        qc_shade_blinn_phong_shadowed(gn.xyz, -qc_light_dir, -gv.xyz, gc.rgb, qc_light_color, vec4(qc_material.xy, gc.w, gv.w), vis, rgb);\n";
+    } else {
+        m << "        qc_shade_blinn_phong(gn.xyz, -qc_light_dir, -gv.xyz, gc.rgb, qc_light_color, vec4(qc_material.xy, gc.w, gv.w), rgb);\n";
+    }
+    if (env) m << "        rgb = qc_reflect_environment(rgb, gn.xyz, -gv.xyz);\n";
+    m << "    }\n";
+    if (silhouettes) {
+        m << "    ivec2 last = textureSize(qc_gnormal, 0) - 1;\n"
+             "    vec4 t[9];\n"
+             "    for (int r = 0; r < 3; ++r)\n"
+             "        for (int c = 0; c < 3; ++c)  // row 0 = top (window y + 1)\n"
+             "            t[3 * r + c] = texelFetch(qc_gnormal, clamp(px + ivec2(c - 1, 1 - r), ivec2(0), last), 0);\n"
+             "    qc_silhouette(t[0].w, t[1].w, t[2].w, t[3].w, t[4].w, t[5].w, t[6].w, t[7].w, t[8].w,\n"
+             "        t[0].xyz, t[1].xyz, t[2].xyz, t[3].xyz, t[4].xyz, t[5].xyz, t[6].xyz, t[7].xyz, t[8].xyz,\n"
+             "        qc_pz, qc_silhouette_params, rgb, rgb);\n";
+    }
+    m << "    qc_color = vec4(rgb, 1.0);\n"
+         "}\n";
+    s.text = m.str();
+    return s;
+}
+
+/// The pass-through fragment stage (benchmark baseline: the rasteriser's fill rate).
+const char* passthrough_fragment =
+    "layout(location = 0) out vec4 qc_color;\n\nvoid main()\n{\n    qc_color = vec4(0.5, 0.5, 0.5, 1.0);\n    gl_FragDepth = gl_FragCoord.z;\n}\n";
+
+}  // namespace
+
+std::vector<StageText> program_stages(const render::QuadricKey& key) {
+    render::check(key);
+    const render::QuadricKey k = render::canonical(key);
+    const bool sphere = k.shape == FragmentShape::sphere;
+    const std::string proj = k.ortho ? "ortho" : "perspective";
+    std::vector<StageText> out;
+    const std::string vname = (sphere ? "qc_sphere_" : "qc_quadric_") + proj + ".vert";
+    out.push_back(stage_text(StageText::Kind::vertex, vname, sphere ? sphere_vertex_shader(k.ortho) : vertex_shader(k.ortho),
+                             sphere ? "quadric renderer: vertex stage of the sphere variant, " + proj + " camera"
+                                    : "quadric renderer: vertex stage, " + proj + " camera"));
+    if (k.stage == render::FragmentStage::passthrough) {
+        Stage p;
+        p.text = passthrough_fragment;
+        out.push_back(stage_text(StageText::Kind::fragment, "qc_passthrough.frag", p, "pass-through fragment stage (benchmark baseline: the rasteriser's fill rate)"));
+        return out;
+    }
+    const std::string variant = std::string(render::shape_name(k.shape)) + (k.cull ? "" : "_nocull");
+    std::string fname, summary;
+    if (k.stage == render::FragmentStage::brute_force) {
+        // Benchmark baseline (quadcast bench fragments), perspective camera, forward shading: the
+        // pixel's ray from gl_FragCoord (`pixel_ray`), then `local_ray` and `cast` per fragment.
+        fname = "qc_quadric_" + variant + "_brute_perspective.frag";
+        summary = "quadric renderer: brute-force fragment stage (benchmark baseline), " + variant + ", perspective camera";
+    } else if (k.gbuffer) {
+        fname = "qc_gbuffer_" + variant + "_" + proj + ".frag";
+        summary = "quadric renderer: geometry-buffer fragment stage (deferred shading), " + variant + ", " + proj + " camera";
+    } else if (k.environment) {
+        fname = "qc_quadric_" + variant + "_environment_" + proj + ".frag";
+        summary = "quadric renderer: fragment stage with environment reflection, " + variant + ", " + proj + " camera";
+    } else {
+        fname = "qc_quadric_" + variant + "_" + proj + ".frag";
+        summary = "quadric renderer: fragment stage, " + variant + ", " + proj + " camera";
+    }
+    out.push_back(stage_text(StageText::Kind::fragment, fname, fragment_shader(k), summary));
+    return out;
+}
+
+std::vector<StageText> program_stages(const render::DeferredKey& k) {
+    Stage v;
+    v.text = fullscreen_vertex;
+    const std::string dname = std::string("qc_deferred") + (k.shadows ? "_shadows" : "") + (k.silhouettes ? "_silhouettes" : "") + (k.environment ? "_environment" : "") + ".frag";
+    return {stage_text(StageText::Kind::vertex, "qc_fullscreen.vert", v, "deferred shading: full-screen triangle"),
+            stage_text(StageText::Kind::fragment, dname, deferred_shader(k.silhouettes, k.shadows, k.environment),
+                       std::string("deferred shading: Blinn-Phong from the geometry buffer") + (k.shadows ? ", soft shadows (64-sample PCF, 8-sample early-out)" : "") +
+                           (k.silhouettes ? ", silhouette and crease outlines" : "") + (k.environment ? ", environment reflection" : ""))};
+}
+
+}  // namespace quadcast::gl
