@@ -10,7 +10,8 @@ get_filename_component(QUADCAST_ROOT ${CMAKE_CURRENT_LIST_DIR} DIRECTORY)
 add_library(quadcast_gl STATIC
   ${QUADCAST_ROOT}/generated/src/shaders.cpp
   ${QUADCAST_ROOT}/src/gl/stages.cpp
-  ${QUADCAST_ROOT}/src/gl/spline_stages.cpp)
+  ${QUADCAST_ROOT}/src/gl/spline_stages.cpp
+  ${QUADCAST_ROOT}/src/gl/validate.cpp)
 add_library(quadcast::gl ALIAS quadcast_gl)
 add_library(quadcast::gl_harness ALIAS quadcast_gl)  # the former name, until its users move
 set_target_properties(quadcast_gl PROPERTIES EXPORT_NAME gl POSITION_INDEPENDENT_CODE ON)

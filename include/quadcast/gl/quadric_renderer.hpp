@@ -23,9 +23,9 @@
 #include "quadcast/gl/loader.hpp"
 #include "quadcast/gl/program.hpp"
 #include "quadcast/gl/scene_pass.hpp"
-#include "quadcast/render/cpu_renderer.hpp"
+#include "quadcast/gl/validate.hpp"
+#include "quadcast/render/light_camera.hpp"
 #include "quadcast/render/record.hpp"
-#include "quadcast/render/validate.hpp"
 #include "quadcast/render/types.hpp"
 #include "quadcast/render/variant_key.hpp"
 
@@ -81,7 +81,7 @@ public:
     /// std::invalid_argument (quadcast::render::validate) for a primitive that cannot be drawn
     /// as it says, before anything is uploaded.
     void set_primitives(const std::vector<render::Primitive>& prims) {
-        render::validate_primitives(prims);
+        gl::validate_primitives(prims);
         std::vector<PrimitiveRecord> records;
         std::vector<float> planes;  // 16 floats per primitive of the planes variant, in record order
         records.reserve(prims.size());
