@@ -137,17 +137,28 @@ void cpu_ops(float a, float b, std::uint32_t* out) {
 
 }  // namespace
 
-TEST_CASE("the OSMesa context is OpenGL 4.3+ core on llvmpipe") {
+TEST_CASE("the OSMesa context is OpenGL 4.5 core on llvmpipe") {
     OsmesaContext& ctx = context();
     const auto& info = ctx.info();
     MESSAGE("context: ", info.summary(), "; GLSL ", info.glsl);
-    CHECK(info.major * 10 + info.minor >= 43);
+    CHECK(info.major * 10 + info.minor >= 45);
     CHECK(info.core_profile);
     CHECK(contains(info.renderer, "llvmpipe"));
     CHECK(ctx.is_current());
     CHECK(ctx.api().version() == info.major * 10 + info.minor);
-    if (ctx.api().has_gl45()) CHECK((ctx.api().CreateBuffers != nullptr));
+    CHECK(ctx.api().has_gl45());
+    CHECK((ctx.api().CreateBuffers != nullptr));
+    CHECK((ctx.api().BindTextureUnit != nullptr));
     CHECK(ctx.api().GetError() == GL_NO_ERROR);
+}
+
+TEST_CASE("a context request below OpenGL 4.5 is refused before any context is made") {
+    OsmesaContext::Options o;
+    o.min_minor = 3;
+    CHECK_THROWS_WITH_AS(OsmesaContext(o), doctest::Contains("request OpenGL 4.5 or later"), std::invalid_argument);
+    quadcast::gl::EglContext::Options e;
+    e.minor = 4;
+    CHECK_THROWS_WITH_AS(quadcast::gl::EglContext(e), doctest::Contains("request OpenGL 4.5 or later"), std::invalid_argument);
 }
 
 TEST_CASE("a resolver missing one entry point gives an error naming that function") {
@@ -439,7 +450,7 @@ TEST_CASE("a kernel without qc_offset is refused when one dispatch is not enough
     CHECK(r.output == std::vector<std::uint32_t>{1u, 1u, 1u, 0u});
 }
 
-TEST_CASE("an EGL surfaceless context, where available, is also OpenGL 4.3+ core and runs compute") {
+TEST_CASE("an EGL surfaceless context, where available, is also OpenGL 4.5 core and runs compute") {
     if (!quadcast::gl::EglContext::available()) {
         MESSAGE("EGL surfaceless not available here; skipped");
         return;
@@ -447,7 +458,7 @@ TEST_CASE("an EGL surfaceless context, where available, is also OpenGL 4.3+ core
     {
         quadcast::gl::EglContext egl;
         MESSAGE("EGL context: ", egl.info().summary());
-        CHECK(egl.info().major * 10 + egl.info().minor >= 43);
+        CHECK(egl.info().major * 10 + egl.info().minor >= 45);
         CHECK(egl.info().core_profile);
         CHECK(egl.is_current());
         ComputeRunner runner(egl.api(),

@@ -5,6 +5,8 @@
 
 #include <doctest/doctest.h>
 
+#include <stdexcept>
+#include <string>
 #include <type_traits>
 
 namespace {
@@ -297,7 +299,7 @@ int count_entries() {
 
 }  // namespace
 
-TEST_CASE("a resolver that knows no function names every missing OpenGL 4.3 entry point") {
+TEST_CASE("a resolver that knows no function names every missing OpenGL 4.3 entry point (asked for before the version)") {
     int calls = 0;
     quadcast::gl::Resolver none = [&](const char*) -> void* {
         ++calls;
@@ -310,7 +312,7 @@ TEST_CASE("a resolver that knows no function names every missing OpenGL 4.3 entr
         const std::string what = e.what();
         CHECK(what.find("glDispatchCompute") != std::string::npos);
         CHECK(what.find("glCreateShader") != std::string::npos);
-        CHECK(what.find("4.3") != std::string::npos);
+        CHECK(what.find("needs an OpenGL 4.5 core context") != std::string::npos);
         // The 4.5-only entries are not asked for before the context's version is known.
         CHECK(what.find("glCreateBuffers") == std::string::npos);
         CHECK(e.names().size() == static_cast<std::size_t>(calls));
@@ -321,4 +323,35 @@ TEST_CASE("a resolver that knows no function names every missing OpenGL 4.3 entr
 TEST_CASE("an empty or null resolver is rejected") {
     CHECK_THROWS_AS(quadcast::gl::Api::load(quadcast::gl::Resolver{}), std::invalid_argument);
     CHECK_THROWS_AS(quadcast::gl::Api::load(static_cast<void* (*)(const char*)>(nullptr)), std::invalid_argument);
+}
+
+namespace {
+
+// A context that reports OpenGL 4.3: just the queries Api::load makes.
+void APIENTRY fake_get_integerv(GLenum pname, GLint* data) {
+    *data = pname == GL_MAJOR_VERSION ? 4 : pname == GL_MINOR_VERSION ? 3 : pname == GL_CONTEXT_PROFILE_MASK ? GL_CONTEXT_CORE_PROFILE_BIT : 0;
+}
+GLenum APIENTRY fake_get_error() { return GL_NO_ERROR; }
+const GLubyte* APIENTRY fake_get_string(GLenum) { return reinterpret_cast<const GLubyte*>("4.3 (Core Profile) fake"); }
+void APIENTRY fake_other() {}
+
+}  // namespace
+
+TEST_CASE("an OpenGL 4.3 context is refused with an error naming the version found and the 4.5 needed") {
+    quadcast::gl::Resolver gl43 = [](const char* name) -> void* {
+        const std::string n = name;
+        if (n == "glGetIntegerv") return reinterpret_cast<void*>(&fake_get_integerv);
+        if (n == "glGetError") return reinterpret_cast<void*>(&fake_get_error);
+        if (n == "glGetString") return reinterpret_cast<void*>(&fake_get_string);
+        return reinterpret_cast<void*>(&fake_other);  // never called by load
+    };
+    try {
+        (void)quadcast::gl::Api::load(gl43);
+        FAIL("load() accepted an OpenGL 4.3 context");
+    } catch (const std::runtime_error& e) {
+        const std::string what = e.what();
+        INFO(what);
+        CHECK(what.find("OpenGL 4.3 (\"4.3 (Core Profile) fake\")") != std::string::npos);
+        CHECK(what.find("needs OpenGL 4.5") != std::string::npos);
+    }
 }

@@ -1,4 +1,4 @@
-// quadcast/gl/egl_context.hpp -- RAII offscreen OpenGL 4.3+ core context through EGL surfaceless (Mesa)
+// quadcast/gl/egl_context.hpp -- RAII offscreen OpenGL 4.5 core context through EGL surfaceless (Mesa)
 #pragma once
 // Host-only. libEGL.so.1 is opened at run time (dlopen), so neither EGL headers nor -lEGL are
 // needed to build; link -ldl on glibc < 2.34. Mesa's EGL_MESA_platform_surfaceless falls back
@@ -114,18 +114,18 @@ public:
     struct Options {
         int major = 4;
         int minor = 5;
-        int min_minor = 3;
+        int min_minor = 5;  ///< lowest acceptable 4.x: 5 (every stage is `#version 450`; the renderers use direct state access)
     };
 
     EglContext() : EglContext(Options{}) {}
 
-    /// Throws std::runtime_error "no OpenGL 4.3+ core context: EGL ..." on failure.
+    /// Throws std::runtime_error "no OpenGL 4.5 core context: EGL ..." on failure.
     explicit EglContext(const Options& opt) {
         namespace d = egl_detail;
-        if (opt.major != 4 || opt.min_minor < 3 || opt.minor < opt.min_minor)
-            throw std::invalid_argument("quadcast::gl::EglContext: request a version 4.x with x >= 4.3");
+        if (opt.major != 4 || opt.min_minor < 5 || opt.minor < opt.min_minor)
+            throw std::invalid_argument("quadcast::gl::EglContext: request OpenGL 4.5 or later (major 4, min_minor >= 5)");
         const d::Lib& egl = d::lib();
-        const std::string fail = "no OpenGL 4.3+ core context: EGL surfaceless: ";
+        const std::string fail = "no OpenGL 4.5 core context: EGL surfaceless: ";
         if (!egl.error.empty()) throw std::runtime_error(fail + egl.error);
         if (!d::has_extension(egl.QueryString(nullptr, d::kExtensions), "EGL_MESA_platform_surfaceless"))
             throw std::runtime_error(fail + "the EGL client lacks EGL_MESA_platform_surfaceless");

@@ -1,4 +1,4 @@
-// quadcast/gl/loader.hpp -- one table of the OpenGL 4.3-4.5 core entry points quadcast uses, filled from a resolver
+// quadcast/gl/loader.hpp -- one table of the OpenGL 4.5 core entry points quadcast uses, filled from a resolver
 #pragma once
 // Host-only. The table is filled through the context's own getProcAddress (OSMesa, EGL, GLX,
 // a windowing library ...), so the same code runs on every context type and no system loader
@@ -26,7 +26,8 @@
 #include <vector>
 
 // X(return type, name without the "gl" prefix, (parameter list)). Groups are only for reading;
-// everything except QUADCAST_GL_FUNCTIONS_GL45 is core in OpenGL 4.3.
+// everything except QUADCAST_GL_FUNCTIONS_GL45 is core in OpenGL 4.3 (asked for first, before the
+// context's version is known); quadcast needs 4.5.
 #define QUADCAST_GL_FUNCTIONS_STATE(X) \
     X(GLenum, GetError, ()) \
     X(const GLubyte *, GetString, (GLenum name)) \
@@ -383,14 +384,14 @@ struct Api {
     bool core_profile = false;
 
     /// True when the context is 4.5+ and the QUADCAST_GL_FUNCTIONS_GL45 entries (direct state
-    /// access, buffer storage, clip control) are loaded; otherwise they are null.
+    /// access, buffer storage, clip control) are loaded: always, for a loaded Api (load refuses older contexts).
     bool has_gl45() const noexcept { return major > 4 || (major == 4 && minor >= 5); }
     /// 10 * major + minor, e.g. 45.
     int version() const noexcept { return 10 * major + minor; }
 
     /// Resolves every entry point with `resolve` (the context must be current). Throws
     /// MissingEntryPoints naming every function the resolver returned null for, and
-    /// std::runtime_error when the context is older than OpenGL 4.3.
+    /// std::runtime_error naming the version found when the context is older than OpenGL 4.5.
     static Api load(const Resolver& resolve);
     static Api load(void* (*resolve)(const char*)) {
         if (resolve == nullptr) throw std::invalid_argument("quadcast::gl::Api::load: null resolver");
@@ -468,22 +469,21 @@ inline Api Api::load(const Resolver& resolve) {
     };
 #define QUADCAST_GL_X_(ret, name, params) get(api.name, "gl" #name);
     QUADCAST_GL_FUNCTIONS_GL43(QUADCAST_GL_X_)
-    if (!missing.empty()) fail("quadcast needs an OpenGL 4.3+ core context");
+    if (!missing.empty()) fail("quadcast needs an OpenGL 4.5 core context");
 
     api.major = get_integer(api, GL_MAJOR_VERSION);
     api.minor = get_integer(api, GL_MINOR_VERSION);
     GLint mask = get_integer(api, GL_CONTEXT_PROFILE_MASK);
     api.core_profile = (mask & GL_CONTEXT_CORE_PROFILE_BIT) != 0;
     for (int i = 0; i < 16 && api.GetError() != GL_NO_ERROR; ++i) {}  // pre-3.2 rejects the profile query
-    if (api.version() < 43) {
+    if (api.version() < 45) {
+        // Every generated stage is `#version 450` and the renderers bind with direct state access.
         std::string ver = get_string(api, GL_VERSION);
         throw std::runtime_error("quadcast::gl: the current context is OpenGL " + std::to_string(api.major) + "." +
-                                 std::to_string(api.minor) + " (\"" + ver + "\"); quadcast needs OpenGL 4.3+");
+                                 std::to_string(api.minor) + " (\"" + ver + "\"); quadcast needs OpenGL 4.5 (GLSL 4.50, direct state access)");
     }
-    if (api.has_gl45()) {
-        QUADCAST_GL_FUNCTIONS_GL45(QUADCAST_GL_X_)
-        if (!missing.empty()) fail("the context reports OpenGL 4.5 but lacks these 4.4/4.5 functions");
-    }
+    QUADCAST_GL_FUNCTIONS_GL45(QUADCAST_GL_X_)
+    if (!missing.empty()) fail("the context reports OpenGL 4.5 but lacks these 4.4/4.5 functions");
 #undef QUADCAST_GL_X_
     return api;
 }

@@ -1,6 +1,6 @@
-// quadcast/gl/osmesa_context.hpp -- RAII offscreen OpenGL 4.3+ core context through Mesa's OSMesa (llvmpipe)
+// quadcast/gl/osmesa_context.hpp -- RAII offscreen OpenGL 4.5 core context through Mesa's OSMesa (llvmpipe)
 #pragma once
-// Host-only. Link: pkg-config osmesa (the CMake target quadcast_gl_harness does it).
+// Host-only. Link: pkg-config osmesa (the CMake target quadcast::gl does it).
 // Include order: this header includes loader.hpp (<GL/glcorearb.h>) before <GL/osmesa.h>.
 
 #include "quadcast/gl/loader.hpp"
@@ -25,7 +25,7 @@ public:
         int height = 16;
         int major = 4;  ///< requested core version; lower minor versions down to min_minor are tried
         int minor = 5;
-        int min_minor = 3;  ///< lowest acceptable 4.x (4.3 brings compute shaders and SSBOs)
+        int min_minor = 5;  ///< lowest acceptable 4.x: 5 (every stage is `#version 450`; the renderers use direct state access)
         int depth_bits = 24;
         int stencil_bits = 8;
     };
@@ -33,13 +33,13 @@ public:
     OsmesaContext() : OsmesaContext(Options{}) {}
 
     /// Creates the context (trying core 4.minor, 4.(minor-1) ... 4.min_minor), makes it current
-    /// and loads the Api. Throws std::runtime_error "no OpenGL 4.3+ core context: OSMesa ..." on
+    /// and loads the Api. Throws std::runtime_error "no OpenGL 4.5 core context: OSMesa ..." on
     /// failure.
     explicit OsmesaContext(const Options& opt) : width_(opt.width), height_(opt.height) {
         if (opt.width <= 0 || opt.height <= 0)
             throw std::invalid_argument("quadcast::gl::OsmesaContext: framebuffer size must be positive");
-        if (opt.major != 4 || opt.min_minor < 3 || opt.minor < opt.min_minor)
-            throw std::invalid_argument("quadcast::gl::OsmesaContext: request a version 4.x with x >= 4.3");
+        if (opt.major != 4 || opt.min_minor < 5 || opt.minor < opt.min_minor)
+            throw std::invalid_argument("quadcast::gl::OsmesaContext: request OpenGL 4.5 or later (major 4, min_minor >= 5)");
         std::string tried;
         for (int minor = opt.minor; minor >= opt.min_minor && ctx_ == nullptr; --minor) {
             const int attribs[] = {OSMESA_FORMAT,
@@ -61,8 +61,8 @@ public:
             tried += (tried.empty() ? "" : ", ") + std::to_string(opt.major) + "." + std::to_string(minor);
         }
         if (ctx_ == nullptr)
-            throw std::runtime_error("no OpenGL 4.3+ core context: OSMesaCreateContextAttribs returned null for core " +
-                                     tried +
+            throw std::runtime_error("no OpenGL 4.5 core context: OSMesaCreateContextAttribs returned null for core " +
+                                     tried + highest_core_version(opt) +
                                      " (is Mesa's libOSMesa built with a gallium driver such as llvmpipe? "
                                      "GALLIUM_DRIVER / LIBGL_ALWAYS_SOFTWARE may select another one)");
         pixels_.assign(static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_) * 4u, 0);
@@ -71,7 +71,7 @@ public:
             api_ = Api::load(&OsmesaContext::get_proc_address);
         } catch (const std::exception& e) {
             release();
-            throw std::runtime_error(std::string("no OpenGL 4.3+ core context: OSMesa context created but ") +
+            throw std::runtime_error(std::string("no OpenGL 4.5 core context: OSMesa context created but ") +
                                      e.what());
         }
         info_ = describe_context(api_, "OSMesa");
@@ -81,6 +81,20 @@ public:
     }
 
     ~OsmesaContext() { release(); }
+
+    /// ", the highest core version it creates is 4.3" (or that it creates none from 4.4 down to
+    /// 3.2): names the version found when 4.5 is refused.
+    static std::string highest_core_version(const Options& opt) {
+        for (int v = 44; v >= 32; v = v % 10 == 0 ? v - 7 : v - 1) {  // 4.4 ... 4.0, 3.3 ... 3.2
+            const int attribs[] = {OSMESA_FORMAT, OSMESA_RGBA, OSMESA_DEPTH_BITS, opt.depth_bits, OSMESA_PROFILE, OSMESA_CORE_PROFILE,
+                                   OSMESA_CONTEXT_MAJOR_VERSION, v / 10, OSMESA_CONTEXT_MINOR_VERSION, v % 10, 0};
+            if (::OSMesaContext c = OSMesaCreateContextAttribs(attribs, nullptr)) {
+                OSMesaDestroyContext(c);
+                return "; the highest core version it creates is " + std::to_string(v / 10) + "." + std::to_string(v % 10);
+            }
+        }
+        return "; it creates no core context from 4.4 down to 3.2";
+    }
 
     OsmesaContext(const OsmesaContext&) = delete;
     OsmesaContext& operator=(const OsmesaContext&) = delete;
