@@ -155,10 +155,10 @@ TEST_CASE("the OSMesa context is OpenGL 4.5 core on llvmpipe") {
 TEST_CASE("a context request below OpenGL 4.5 is refused before any context is made") {
     OsmesaContext::Options o;
     o.min_minor = 3;
-    CHECK_THROWS_WITH_AS(OsmesaContext(o), doctest::Contains("request OpenGL 4.5 or later"), std::invalid_argument);
+    CHECK_THROWS_WITH_AS(OsmesaContext{o}, doctest::Contains("request OpenGL 4.5 or later"), std::invalid_argument);
     quadcast::gl::EglContext::Options e;
     e.minor = 4;
-    CHECK_THROWS_WITH_AS(quadcast::gl::EglContext(e), doctest::Contains("request OpenGL 4.5 or later"), std::invalid_argument);
+    CHECK_THROWS_WITH_AS(quadcast::gl::EglContext{e}, doctest::Contains("request OpenGL 4.5 or later"), std::invalid_argument);
 }
 
 TEST_CASE("a resolver missing one entry point gives an error naming that function") {
