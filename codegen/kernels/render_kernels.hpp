@@ -51,7 +51,7 @@ inline void put_caps(std::mt19937& rng, std::span<float> in, std::size_t& p) {
 template <bool Ortho>
 struct PrimitiveBoundKernel {
     static constexpr const char* name = Ortho ? "primitive_bound_ortho" : "primitive_bound_perspective";
-    static constexpr const char* source = "quadcast::sphere_quad (quadcast/bounds.hpp)";
+    static constexpr const char* source = Ortho ? "quadcast::ortho_sphere_square (quadcast/bounds.hpp)" : "quadcast::sphere_quad (quadcast/bounds.hpp)";
     static constexpr const char* summary = "view-space bounding quad of a primitive's bounding sphere";
     template <class IO> static void run(IO& io) {
         using T = typename IO::T;
@@ -60,14 +60,8 @@ struct PrimitiveBoundKernel {
         const T r = io.scalar("radius");
         const Vec3<T> c = xyz(view * vec4(center, T(1)));
         SphereQuad<T> sq{};
-        if constexpr (Ortho) {
-            const T s1[4] = {T(-1), T(1), T(1), T(-1)};
-            const T s2[4] = {T(-1), T(-1), T(1), T(1)};
-            for (int i = 0; i < 4; ++i) sq.corner[i] = vec3(c[0] + s1[i] * r, c[1] + s2[i] * r, c[2]);
-            sq.valid = mask_t<T>(true);
-        } else {
-            sq = sphere_quad(c, r);
-        }
+        if constexpr (Ortho) sq = ortho_sphere_square(c, r);
+        else sq = sphere_quad(c, r);
         for (int i = 0; i < 4; ++i) io.out("corner" + std::to_string(i), sq.corner[i]);
         io.out("valid", sq.valid);
     }
@@ -83,13 +77,46 @@ struct PrimitiveBoundKernel {
     }
 };
 
+/// Per vertex of the bounding geometry: its clip-space position (`clip_position`).
+struct ClipPositionKernel {
+    static constexpr const char* name = "clip_position";
+    static constexpr const char* source = "quadcast::clip_position (quadcast/bounds.hpp)";
+    static constexpr const char* summary = "clip-space position of a view-space vertex";
+    template <class IO> static void run(IO& io) {
+        using T = typename IO::T;
+        const Mat4<T> projection = io.template mat<4>("projection");
+        const Vec3<T> p = io.template vec<3>("p");
+        io.out("clip", clip_position(projection, p));
+    }
+    static void generate(std::mt19937& rng, std::span<float> in) {
+        std::size_t p = 0;
+        // A perspective or orthographic projection and a point in front of the camera.
+        Mat4<float> m = zero_mat<float, 4, 4>();
+        const float n = uniform(rng, 0.01f, 1.0f), f = n * uniform(rng, 10.0f, 1e4f);
+        m[0][0] = uniform(rng, 0.5f, 3.0f);
+        m[1][1] = uniform(rng, 0.5f, 3.0f);
+        m[2][0] = uniform(rng, -0.1f, 0.1f);
+        m[2][1] = uniform(rng, -0.1f, 0.1f);
+        m[2][2] = -(f + n) / (f - n);
+        if (uniform(rng, 0.0f, 1.0f) < 0.5f) {
+            m[2][3] = -1.0f;
+            m[3][2] = -2.0f * f * n / (f - n);
+        } else {
+            m[3][2] = -(f + n) / (f - n);
+            m[3][3] = 1.0f;
+        }
+        put(in, p, m);
+        put(in, p, vec3(uniform(rng, -50.0f, 50.0f), uniform(rng, -50.0f, 50.0f), -uniform(rng, n, f)));
+    }
+};
+
 /// Per vertex of the bounding quad: the world-space ray through the corner and the local ray
 /// terms o, v, g, a (`local_ray`), plus per-quadric back-face culling against the bounding
 /// sphere (Stoll et al. 2006, sec. 4.4.4; perspective only: an orthographic camera has no single eye).
 template <bool Ortho>
 struct PrimitiveVertexKernel {
     static constexpr const char* name = Ortho ? "primitive_vertex_ortho" : "primitive_vertex_perspective";
-    static constexpr const char* source = "quadcast::local_ray, quadcast::cull_primitive, quadcast::cull_primitive_with_caps (quadcast/raycast.hpp)";
+    static constexpr const char* source = "quadcast::view_point_ray, quadcast::local_ray, quadcast::cull_primitive, quadcast::cull_primitive_with_caps (quadcast/raycast.hpp)";
     static constexpr const char* summary = "incremental ray casting: the ray terms at a corner of the bounding quad";
     template <class IO> static void run(IO& io) {
         using T = typename IO::T;
@@ -97,15 +124,8 @@ struct PrimitiveVertexKernel {
         const Vec3<T> corner = io.template vec<3>("corner_view");
         const Mat3<T> rot_inv = io.template mat<3>("view_rot_inv");
         const Vec3<T> eye = io.template vec<3>("eye");
-        Vec3<T> origin{}, dir{};
-        if constexpr (Ortho) {
-            origin = eye + (rot_inv[0] * corner[0] + rot_inv[1] * corner[1]);
-            dir = -rot_inv[2];
-        } else {
-            origin = eye;
-            dir = rot_inv * corner;
-        }
-        const LocalRay<T> r = local_ray(p, origin, dir);
+        const WorldRay<T> ray = view_point_ray<Ortho>(rot_inv, eye, corner);
+        const LocalRay<T> r = local_ray(p, ray.origin, ray.dir);
         io.out("o", r.o);
         io.out("v", r.v);
         io.out("g", r.g);
@@ -173,7 +193,7 @@ struct FragmentCastKernel {
 template <bool Ortho>
 struct SphereVertexKernel {
     static constexpr const char* name = Ortho ? "sphere_vertex_ortho" : "sphere_vertex_perspective";
-    static constexpr const char* source = "quadcast::local_ray (quadcast/raycast.hpp), o and v";
+    static constexpr const char* source = "quadcast::view_point_ray, quadcast::local_ray (quadcast/raycast.hpp), o and v";
     static constexpr const char* summary = "incremental ray casting of a sphere: the ray terms at a corner of the bounding quad";
     template <class IO> static void run(IO& io) {
         using T = typename IO::T;
@@ -181,16 +201,9 @@ struct SphereVertexKernel {
         const Vec3<T> corner = io.template vec<3>("corner_view");
         const Mat3<T> rot_inv = io.template mat<3>("view_rot_inv");
         const Vec3<T> eye = io.template vec<3>("eye");
-        Vec3<T> origin{}, dir{};
-        if constexpr (Ortho) {
-            origin = eye + (rot_inv[0] * corner[0] + rot_inv[1] * corner[1]);
-            dir = -rot_inv[2];
-        } else {
-            origin = eye;
-            dir = rot_inv * corner;
-        }
-        io.out("o", origin - center);
-        io.out("v", dir);
+        const WorldRay<T> ray = view_point_ray<Ortho>(rot_inv, eye, corner);
+        io.out("o", ray.origin - center);
+        io.out("v", ray.dir);
     }
     static void generate(std::mt19937& rng, std::span<float> in) {
         std::size_t p = 0;

@@ -34,6 +34,7 @@ const std::vector<KernelDef>& registry() {
         make_kernel<SphereQuadKernel>(),
         make_kernel<PrimitiveBoundKernel<false>>(),
         make_kernel<PrimitiveBoundKernel<true>>(),
+        make_kernel<ClipPositionKernel>(),
         make_kernel<PrimitiveVertexKernel<false>>(),
         make_kernel<PrimitiveVertexKernel<true>>(),
         make_kernel<FragmentCastKernel<CastOptions{true, false, false}>>(),

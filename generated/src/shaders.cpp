@@ -2898,7 +2898,7 @@ constexpr Kernel table[] = {
     qc_valid = qc_t30;
 }
 )qc_glsl", 7245)},
-    {"qc_primitive_bound_ortho", std::string_view(R"qc_glsl(quadcast::sphere_quad (quadcast/bounds.hpp))qc_glsl", 43),
+    {"qc_primitive_bound_ortho", std::string_view(R"qc_glsl(quadcast::ortho_sphere_square (quadcast/bounds.hpp))qc_glsl", 51),
      "* +", std::string_view(R"qc_glsl(view-space bounding quad of a primitive's bounding sphere)qc_glsl", 57),
      std::string_view(R"qc_glsl(void qc_primitive_bound_ortho(in mat4 qc_view, in vec3 qc_center, in float qc_radius, out vec3 qc_corner0, out vec3 qc_corner1, out vec3 qc_corner2, out vec3 qc_corner3, out bool qc_valid)
 {
@@ -2944,7 +2944,45 @@ constexpr Kernel table[] = {
     qc_valid = true;
 }
 )qc_glsl", 1826)},
-    {"qc_primitive_vertex_perspective", std::string_view(R"qc_glsl(quadcast::local_ray, quadcast::cull_primitive, quadcast::cull_primitive_with_caps (quadcast/raycast.hpp))qc_glsl", 104),
+    {"qc_clip_position", std::string_view(R"qc_glsl(quadcast::clip_position (quadcast/bounds.hpp))qc_glsl", 45),
+     "* +", std::string_view(R"qc_glsl(clip-space position of a view-space vertex)qc_glsl", 42),
+     std::string_view(R"qc_glsl(void qc_clip_position(in mat4 qc_projection, in vec3 qc_p, out vec4 qc_clip)
+{
+    precise float qc_t0 = qc_projection[0][0] * qc_p.x;
+    precise float qc_t1 = qc_p.y * qc_projection[1][0];
+    precise float qc_t2 = qc_t0 + qc_t1;
+    precise float qc_t3 = qc_p.z * qc_projection[2][0];
+    precise float qc_t4 = qc_t2 + qc_t3;
+    precise float qc_t5 = 1.0 * qc_projection[3][0];
+    precise float qc_t6 = qc_t4 + qc_t5;
+    qc_clip.x = qc_t6;
+    precise float qc_t7 = 1.0 * qc_projection[3][1];
+    precise float qc_t8 = qc_projection[2][1] * qc_p.z;
+    precise float qc_t9 = qc_p.y * qc_projection[1][1];
+    precise float qc_t10 = qc_projection[0][1] * qc_p.x;
+    precise float qc_t11 = qc_t9 + qc_t10;
+    precise float qc_t12 = qc_t8 + qc_t11;
+    precise float qc_t13 = qc_t7 + qc_t12;
+    qc_clip.y = qc_t13;
+    precise float qc_t14 = qc_projection[3][2] * 1.0;
+    precise float qc_t15 = qc_projection[1][2] * qc_p.y;
+    precise float qc_t16 = qc_projection[0][2] * qc_p.x;
+    precise float qc_t17 = qc_t15 + qc_t16;
+    precise float qc_t18 = qc_p.z * qc_projection[2][2];
+    precise float qc_t19 = qc_t17 + qc_t18;
+    precise float qc_t20 = qc_t14 + qc_t19;
+    qc_clip.z = qc_t20;
+    precise float qc_t21 = qc_p.y * qc_projection[1][3];
+    precise float qc_t22 = qc_projection[0][3] * qc_p.x;
+    precise float qc_t23 = qc_t21 + qc_t22;
+    precise float qc_t24 = qc_p.z * qc_projection[2][3];
+    precise float qc_t25 = qc_t23 + qc_t24;
+    precise float qc_t26 = 1.0 * qc_projection[3][3];
+    precise float qc_t27 = qc_t25 + qc_t26;
+    qc_clip.w = qc_t27;
+}
+)qc_glsl", 1585)},
+    {"qc_primitive_vertex_perspective", std::string_view(R"qc_glsl(quadcast::view_point_ray, quadcast::local_ray, quadcast::cull_primitive, quadcast::cull_primitive_with_caps (quadcast/raycast.hpp))qc_glsl", 130),
      "&& * + - < == ?: abs neg sqrt", std::string_view(R"qc_glsl(incremental ray casting: the ray terms at a corner of the bounding quad)qc_glsl", 71),
      std::string_view(R"qc_glsl(void qc_primitive_vertex_perspective(in mat4 qc_q, in vec3 qc_center, in float qc_radius, in vec3 qc_axis, in float qc_half_length, in vec3 qc_corner_view, in mat3 qc_view_rot_inv, in vec3 qc_eye, out vec3 qc_o, out vec3 qc_v, out vec3 qc_g, out vec3 qc_a, out bool qc_culled, out bool qc_culled_caps)
 {
@@ -3119,7 +3157,7 @@ constexpr Kernel table[] = {
     qc_culled_caps = qc_t154;
 }
 )qc_glsl", 7851)},
-    {"qc_primitive_vertex_ortho", std::string_view(R"qc_glsl(quadcast::local_ray, quadcast::cull_primitive, quadcast::cull_primitive_with_caps (quadcast/raycast.hpp))qc_glsl", 104),
+    {"qc_primitive_vertex_ortho", std::string_view(R"qc_glsl(quadcast::view_point_ray, quadcast::local_ray, quadcast::cull_primitive, quadcast::cull_primitive_with_caps (quadcast/raycast.hpp))qc_glsl", 130),
      "* + - neg", std::string_view(R"qc_glsl(incremental ray casting: the ray terms at a corner of the bounding quad)qc_glsl", 71),
      std::string_view(R"qc_glsl(void qc_primitive_vertex_ortho(in mat4 qc_q, in vec3 qc_center, in float qc_radius, in vec3 qc_axis, in float qc_half_length, in vec3 qc_corner_view, in mat3 qc_view_rot_inv, in vec3 qc_eye, out vec3 qc_o, out vec3 qc_v, out vec3 qc_g, out vec3 qc_a, out bool qc_culled, out bool qc_culled_caps)
 {
@@ -4706,7 +4744,7 @@ constexpr Kernel table[] = {
     qc_normal.z = qc_t228;
 }
 )qc_glsl", 11106)},
-    {"qc_sphere_vertex_perspective", std::string_view(R"qc_glsl(quadcast::local_ray (quadcast/raycast.hpp), o and v)qc_glsl", 51),
+    {"qc_sphere_vertex_perspective", std::string_view(R"qc_glsl(quadcast::view_point_ray, quadcast::local_ray (quadcast/raycast.hpp), o and v)qc_glsl", 77),
      "* + -", std::string_view(R"qc_glsl(incremental ray casting of a sphere: the ray terms at a corner of the bounding quad)qc_glsl", 83),
      std::string_view(R"qc_glsl(void qc_sphere_vertex_perspective(in vec3 qc_center, in vec3 qc_corner_view, in mat3 qc_view_rot_inv, in vec3 qc_eye, out vec3 qc_o, out vec3 qc_v)
 {
@@ -4736,7 +4774,7 @@ constexpr Kernel table[] = {
     qc_v.z = qc_t17;
 }
 )qc_glsl", 1296)},
-    {"qc_sphere_vertex_ortho", std::string_view(R"qc_glsl(quadcast::local_ray (quadcast/raycast.hpp), o and v)qc_glsl", 51),
+    {"qc_sphere_vertex_ortho", std::string_view(R"qc_glsl(quadcast::view_point_ray, quadcast::local_ray (quadcast/raycast.hpp), o and v)qc_glsl", 77),
      "* + - neg", std::string_view(R"qc_glsl(incremental ray casting of a sphere: the ray terms at a corner of the bounding quad)qc_glsl", 83),
      std::string_view(R"qc_glsl(void qc_sphere_vertex_ortho(in vec3 qc_center, in vec3 qc_corner_view, in mat3 qc_view_rot_inv, in vec3 qc_eye, out vec3 qc_o, out vec3 qc_v)
 {

@@ -343,6 +343,29 @@ struct SphereQuad {
     mask_t<T> valid;    ///< false when the eye is inside or on the sphere (fall back to full screen)
 };
 
+/// The bounding square of a sphere (centre `c` in view space, radius `r`) for an orthographic
+/// camera: the square c +- r in view x and y at the centre's depth, corners in `sphere_quad`'s
+/// order (-,-), (+,-), (+,+), (-,+); always valid. Its projection bounds the sphere's (a disc).
+/// Numerics: corner = (c_x + s1 r, c_y + s2 r, c_z) with s1, s2 = -+1 (exact products).
+template <class T>
+SphereQuad<T> ortho_sphere_square(const Vec3<T>& c, const T& r) {
+    SphereQuad<T> q{};
+    const T s1[4] = {T(-1), T(1), T(1), T(-1)};
+    const T s2[4] = {T(-1), T(-1), T(1), T(1)};
+    for (int i = 0; i < 4; ++i) q.corner[i] = vec3(c[0] + s1[i] * r, c[1] + s2[i] * r, c[2]);
+    q.half_size = r;
+    q.valid = mask_t<T>(true);
+    return q;
+}
+
+/// The clip-space position of the view-space point p: projection * (p, 1).
+/// Numerics: the matrix-vector product of linalg (a left fold over the columns), not GLSL's
+/// built-in `*`, so the GL vertex stage and the CPU round alike.
+template <class T>
+Vec4<T> clip_position(const Mat4<T>& projection, const Vec3<T>& p) {
+    return projection * vec4(p[0], p[1], p[2], T(1));
+}
+
 /// Tight bounding quad of a sphere (centre `c` in view space, eye at the origin, radius `r`), in
 /// the spirit of Stoll et al. 2006 sec. 3 (area of interest tightly enclosing the projection of
 /// the bounding sphere): the silhouette cone from the eye (half-angle a, sin a = r / L) meets the

@@ -41,6 +41,24 @@ struct LocalRay {
     Vec3<T> o, v, g, a;
 };
 
+/// A world-space ray (origin, direction; not normalised).
+template <class T>
+struct WorldRay {
+    Vec3<T> origin, dir;
+};
+
+/// The world-space ray through the view-space point p (a corner of a bounding quad, or a pixel
+/// centre on the near plane) of a camera at `eye` with inverse view rotation R^T
+/// (`view_rot_inv`, view -> world): perspective, origin = eye and dir = R^T p; orthographic,
+/// origin = eye + (R^T_0 p_x + R^T_1 p_y) and dir = -R^T_2 (the viewing direction).
+/// Numerics: R^T p is linalg's matrix-vector product (a left fold over the columns); the
+/// orthographic origin is eye + (c0 p_x + c1 p_y).
+template <bool Ortho, class T>
+WorldRay<T> view_point_ray(const Mat3<T>& view_rot_inv, const Vec3<T>& eye, const Vec3<T>& p) {
+    if constexpr (Ortho) return {eye + (view_rot_inv[0] * p[0] + view_rot_inv[1] * p[1]), -view_rot_inv[2]};
+    else return {eye, view_rot_inv * p};
+}
+
 /// The local ray for a world-space ray (origin, dir).
 /// Numerics: o = origin - center; g = A o + b, a = A v (left folds).
 template <class T>
@@ -237,12 +255,6 @@ Vec3<T> shade_blinn_phong(const Vec3<T>& n_in, const Vec3<T>& l_in, const Vec3<T
 }  // namespace quadcast
 
 namespace quadcast {
-
-/// A world-space ray (origin, direction).
-template <class T>
-struct WorldRay {
-    Vec3<T> origin, dir;
-};
 
 /// The world-space ray of a pixel of a perspective camera, reconstructed from its window position
 /// (the brute-force fragment stage): origin the eye, direction towards the pixel's point on the

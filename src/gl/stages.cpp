@@ -51,6 +51,7 @@ Stage vertex_shader(bool ortho) {
     const std::string proj = ortho ? "ortho" : "perspective";
     add_kernel(s, fns, "primitive_bound_" + proj);
     add_kernel(s, fns, "primitive_vertex_" + proj);
+    add_kernel(s, fns, "clip_position");
     const char* q = ortho ? "" : "flat ";  // constant over the quad for one camera model
     const char* vq = ortho ? "flat " : "";
     std::ostringstream m;
@@ -75,7 +76,9 @@ Stage vertex_shader(bool ortho) {
          "    qc_primitive_vertex_" << proj << "(q, qc_record_center(p), qc_record_radius(p), qc_record_axis(p), qc_record_half_length(p), corner, qc_view_rot_inv, qc_eye,\n"
          "        qc_o, qc_v, qc_g, qc_a, culled, culled_caps);\n"
          "    qc_prim = prim;\n"
-         "    gl_Position = (qc_cull && (qc_caps ? culled_caps : culled)) ? vec4(2.0, 2.0, 2.0, 1.0) : qc_projection * vec4(corner, 1.0);\n"
+         "    vec4 clip;\n"
+         "    qc_clip_position(qc_projection, corner, clip);\n"
+         "    gl_Position = (qc_cull && (qc_caps ? culled_caps : culled)) ? vec4(2.0, 2.0, 2.0, 1.0) : clip;\n"
          "}\n";
     s.text = m.str();
     return s;
@@ -90,6 +93,7 @@ Stage sphere_vertex_shader(bool ortho) {
     const std::string proj = ortho ? "ortho" : "perspective";
     add_kernel(s, fns, "primitive_bound_" + proj);
     add_kernel(s, fns, "sphere_vertex_" + proj);
+    add_kernel(s, fns, "clip_position");
     const char* q = ortho ? "" : "flat ";
     const char* vq = ortho ? "flat " : "";
     std::ostringstream m;
@@ -113,7 +117,7 @@ Stage sphere_vertex_shader(bool ortho) {
          "    qc_radius = qc_record_radius(p);\n"
          "    qc_prim_color = qc_record_color(p);\n"
          "    qc_prim_material = qc_record_material(p);\n"
-         "    gl_Position = qc_projection * vec4(corner, 1.0);\n"
+         "    qc_clip_position(qc_projection, corner, gl_Position);\n"
          "}\n";
     s.text = m.str();
     return s;

@@ -146,8 +146,7 @@ inline FrameSetup frame_setup(const Camera& camera, int width, int height) {
 /// The ray of the pixel whose centre is (x + 0.5, y + 0.5) in WINDOW coordinates (y = 0 is the
 /// bottom row), as the GPU's vertex stage builds it (PrimitiveVertexKernel): the view-space
 /// point p on the near plane through the pixel centre (NDC (x, y, -1) unprojected by P^-1, in
-/// double, rounded to float), then perspective: origin = eye, dir = R^T p;
-/// orthographic: origin = eye + (R^T_0 p_x + R^T_1 p_y), dir = -R^T_2 (float, linalg order).
+/// double, rounded to float), then `view_point_ray` (float).
 inline PixelRay pixel_ray(const FrameSetup& f, int x, int y) {
     // Unproject the pixel centre onto the near plane
     const double nx = (2.0 * (x + 0.5)) / f.width - 1.0;
@@ -155,9 +154,8 @@ inline PixelRay pixel_ray(const FrameSetup& f, int x, int y) {
     const Vec4<double> h = f.projection_inv * vec4(nx, ny, -1.0, 1.0);
     const Vec3<float> p = vec3(float(h[0] / h[3]), float(h[1] / h[3]), float(h[2] / h[3]));
     // Turn it into a world-space ray
-    if (f.orthographic)
-        return {f.eye + (f.view_rot_inv[0] * p[0] + f.view_rot_inv[1] * p[1]), -f.view_rot_inv[2]};
-    return {f.eye, f.view_rot_inv * p};
+    const WorldRay<float> r = f.orthographic ? view_point_ray<true>(f.view_rot_inv, f.eye, p) : view_point_ray<false>(f.view_rot_inv, f.eye, p);
+    return {r.origin, r.dir};
 }
 
 /// The fragment stage for one primitive at one pixel ray: `cast_ray` of the primitive's variant
@@ -202,7 +200,7 @@ inline void shade_pixel(const Primitive& p, const Vec3<float>& normal, const Vec
 /// Window-pixel rectangle that contains every pixel whose ray can hit the primitive's bounding
 /// sphere, or an empty one when no hit can survive (off screen, behind the eye, outside the
 /// depth range). Host-side, in double: `sphere_quad` of the view-space centre (the GPU's
-/// bounding quad; the square c +- r for orthographic cameras), its corners projected by P,
+/// bounding quad; `ortho_sphere_square` for orthographic cameras), its corners projected by P,
 /// widened by 1/16 pixel (`pixel_span`); the full screen when the eye is inside the sphere or
 /// a corner lies on or behind the eye plane.
 inline PixelRect screen_rect(const ClippedQuadric<float>& p, const FrameSetup& f) {
@@ -229,17 +227,12 @@ inline PixelRect screen_rect(const ClippedQuadric<float>& p, const FrameSetup& f
     // Bound the sphere by its quad and project the corners
     Vec3<double> corner[4];
     bool full = false;
-    if (f.orthographic) {
-        const double s1[4] = {-1, 1, 1, -1}, s2[4] = {-1, -1, 1, 1};
-        for (int i = 0; i < 4; ++i) corner[i] = vec3(c[0] + s1[i] * r, c[1] + s2[i] * r, c[2]);
-    } else {
-        const SphereQuad<double> sq = sphere_quad(c, r);
-        full = !sq.valid;
-        for (int i = 0; i < 4; ++i) corner[i] = sq.corner[i];
-    }
+    const SphereQuad<double> sq = f.orthographic ? ortho_sphere_square(c, r) : sphere_quad(c, r);
+    full = !sq.valid;
+    for (int i = 0; i < 4; ++i) corner[i] = sq.corner[i];
     double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
     for (int i = 0; i < 4 && !full; ++i) {
-        const Vec4<double> h = f.projection * vec4(corner[i], 1.0);
+        const Vec4<double> h = clip_position(f.projection, corner[i]);
         if (!(h[3] > 0) || !std::isfinite(h[0]) || !std::isfinite(h[1])) {
             full = true;
             break;
