@@ -13,7 +13,6 @@ add_library(quadcast_gl STATIC
   ${QUADCAST_ROOT}/src/gl/spline_stages.cpp
   ${QUADCAST_ROOT}/src/gl/validate.cpp)
 add_library(quadcast::gl ALIAS quadcast_gl)
-add_library(quadcast::gl_harness ALIAS quadcast_gl)  # the former name, until its users move
 set_target_properties(quadcast_gl PROPERTIES EXPORT_NAME gl POSITION_INDEPENDENT_CODE ON)
 target_include_directories(quadcast_gl PUBLIC $<BUILD_INTERFACE:${QUADCAST_ROOT}/generated/include> $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
 # libEGL.so.1 is opened at run time by quadcast/gl/egl_context.hpp, so no -lEGL here.
