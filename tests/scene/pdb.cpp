@@ -420,7 +420,7 @@ TEST_CASE("balls_and_sticks: a ball per atom and two half sticks per bond; space
     CHECK(s.cylinders[0].p1[0] == doctest::Approx(0.6));
     CHECK(s.cylinders[1].p0[0] == doctest::Approx(0.6));
     CHECK(s.cylinders[0].radius == 0.15);
-    CHECK_FALSE(s.cylinders[0].caps);
+    CHECK(s.cylinders[0].caps);  // capped: closed surfaces keep per-quadric culling
     CHECK(s.cylinders[0].material.color[0] == s.spheres[0].material.color[0]);
     CHECK(s.cylinders[1].material.color[0] == s.spheres[1].material.color[0]);
 
