@@ -337,6 +337,17 @@ struct QuadClip {
 
 namespace detail {
 
+/// The unit normal of the quad's largest corner triangle (robust for triangles with a repeated
+/// corner).
+inline V3 quad_normal(const std::array<V3, 4>& q) {
+    V3 n = vec3(0.0, 0.0, 0.0);
+    for (std::size_t i = 0; i < 4; ++i) {
+        const V3 m = cross(q[(i + 1) % 4] - q[i], q[(i + 3) % 4] - q[i]);
+        if (length(m) > length(n)) n = m;
+    }
+    return n / length(n);
+}
+
 /// The edges of the quad extruded along its unit normal n, each plane scaled to 1 at the
 /// farthest corner, and the slab |n.x| <= half-thickness + 2^-10 r: exact for a (nearly) planar
 /// quad whose outline seen along n is convex, well conditioned however flat it is.
@@ -392,13 +403,7 @@ inline QuadClip director_planes(const std::array<V3, 4>& q, const V3& c) {
 /// the normal convex.
 inline QuadClip quad_clip(const std::array<Vec3<double>, 4>& q, const Vec3<double>& c, double r) {
     using detail::V3;
-    // The normal of the largest corner triangle (robust for triangles with a repeated corner).
-    V3 n = vec3(0.0, 0.0, 0.0);
-    for (int i = 0; i < 4; ++i) {
-        const V3 m = cross(q[static_cast<std::size_t>((i + 1) % 4)] - q[static_cast<std::size_t>(i)], q[static_cast<std::size_t>((i + 3) % 4)] - q[static_cast<std::size_t>(i)]);
-        if (length(m) > length(n)) n = m;
-    }
-    n = n / length(n);
+    const V3 n = detail::quad_normal(q);
     // The outline seen along n is convex when every corner turns the same way.
     bool convex = true;
     for (int i = 0; i < 4; ++i) {
@@ -442,12 +447,7 @@ inline render::Primitive quad(const glm::vec3& p1, const glm::vec3& p2, const gl
         clip = quad_clip(q, c, r);
     } else {
         // Planar quad or triangle: its plane n.x = n.p1.
-        detail::V3 n = vec3(0.0, 0.0, 0.0);
-        for (int i = 0; i < 4; ++i) {
-            const detail::V3 m = cross(q[static_cast<std::size_t>((i + 1) % 4)] - q[static_cast<std::size_t>(i)], q[static_cast<std::size_t>((i + 3) % 4)] - q[static_cast<std::size_t>(i)]);
-            if (length(m) > length(n)) n = m;
-        }
-        n = n / length(n);
+        const detail::V3 n = detail::quad_normal(q);
         local.q = zero_mat<double, 4, 4>();
         for (int i = 0; i < 3; ++i) local.q[3][i] = local.q[i][3] = 0.5 * n[i];
         local.q[3][3] = -dot(n, q[0] - c);

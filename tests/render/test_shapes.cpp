@@ -253,14 +253,9 @@ TEST_CASE("strongly twisted bilinear quads are drawn whole (independent ray-patc
     const std::array<glm::vec3, 4> q = {glm::vec3(-1, -1, 4), glm::vec3(1, -1, -4), glm::vec3(1, 1, 4), glm::vec3(-1, 1, -4)};
     const std::array<V3, 4> ql = {ldv(q[0]), ldv(q[1]), ldv(q[2]), ldv(q[3])};
     Primitive cut = shapes::quad(q[0], q[1], q[2], q[3]);
-    Vec3<double> n = vec3(0.0, 0.0, 0.0);
     std::array<Vec3<double>, 4> qd{};
     for (int i = 0; i < 4; ++i) qd[std::size_t(i)] = cast<double>(quadcast::from_glm(q[std::size_t(i)]));
-    for (int i = 0; i < 4; ++i) {
-        const Vec3<double> m = cross(qd[std::size_t((i + 1) % 4)] - qd[std::size_t(i)], qd[std::size_t((i + 3) % 4)] - qd[std::size_t(i)]);
-        if (quadcast::length(m) > quadcast::length(n)) n = m;
-    }
-    const shapes::QuadClip old = shapes::detail::extruded_edges(qd, cast<double>(cut.shape.center), normalize(n), double(cut.shape.radius));
+    const shapes::QuadClip old = shapes::detail::extruded_edges(qd, cast<double>(cut.shape.center), shapes::detail::quad_normal(qd), double(cut.shape.radius));
     for (int i = 0; i < 4; ++i) cut.shape.planes[i] = cast<float>(old.planes[i]);
     cut.shape.axis = cast<float>(old.axis);
     cut.shape.half_length = float(old.half_length);
