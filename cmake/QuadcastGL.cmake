@@ -1,14 +1,21 @@
 # quadcast::gl: the OpenGL 4.5 renderers' library. The headers of include/quadcast/gl/ (offscreen
 # contexts through OSMesa or EGL surfaceless via dlopen, the function table, programs, renderers)
-# plus one compiled library: the generated kernels' GLSL, embedded once (generated/src/shaders.cpp),
-# and the stage assembly per variant key (src/gl/). It carries OSMesa and dl. Included from the
-# top-level CMakeLists.txt.
+# plus one compiled library: the generated kernels' GLSL (generated/glsl/kernels/, the one
+# checked-in copy), embedded at build time by cmake/embed_kernels.cmake, and the stage assembly
+# per variant key (src/gl/). It carries OSMesa and dl. Included from the top-level CMakeLists.txt.
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(QUADCAST_OSMESA REQUIRED IMPORTED_TARGET osmesa)
 
 get_filename_component(QUADCAST_ROOT ${CMAKE_CURRENT_LIST_DIR} DIRECTORY)
+file(GLOB QUADCAST_KERNEL_GLSL CONFIGURE_DEPENDS ${QUADCAST_ROOT}/generated/glsl/kernels/qc_*.glsl)
+set(QUADCAST_EMBEDDED ${CMAKE_CURRENT_BINARY_DIR}/generated/shaders.cpp)
+add_custom_command(OUTPUT ${QUADCAST_EMBEDDED}
+  COMMAND ${CMAKE_COMMAND} -DKERNEL_DIR=${QUADCAST_ROOT}/generated/glsl/kernels -DOUTPUT=${QUADCAST_EMBEDDED}
+          -P ${QUADCAST_ROOT}/cmake/embed_kernels.cmake
+  DEPENDS ${QUADCAST_KERNEL_GLSL} ${QUADCAST_ROOT}/cmake/embed_kernels.cmake
+  COMMENT "Embedding the traced GLSL kernels")
 add_library(quadcast_gl STATIC
-  ${QUADCAST_ROOT}/generated/src/shaders.cpp
+  ${QUADCAST_EMBEDDED}
   ${QUADCAST_ROOT}/src/gl/stages.cpp
   ${QUADCAST_ROOT}/src/gl/spline_stages.cpp
   ${QUADCAST_ROOT}/src/gl/validate.cpp)

@@ -345,6 +345,52 @@ struct Pcf64Kernel {
 };
 
 
+/// Soft shadows: the shadow-map texel of one PCF sample (`pcf_sample_texel`).
+struct PcfSampleTexelKernel {
+    static constexpr const char* name = "pcf_sample_texel";
+    static constexpr const char* source = "quadcast::pcf_sample_texel (quadcast/shading.hpp)";
+    static constexpr const char* summary = "percentage-closer filtering: the clamped texel of grid cell g around the shadow-map position";
+    template <class IO> static void run(IO& io) {
+        using T = typename IO::T;
+        const Vec2<T> texel = io.template vec<2>("texel");
+        const T g = io.scalar("g"), step = io.scalar("step"), last = io.scalar("last");
+        io.out("index", pcf_sample_texel(texel, g, step, last));
+    }
+    static void generate(std::mt19937& rng, std::span<float> in) {
+        std::size_t p = 0;
+        // Positions inside the map, near and beyond its borders.
+        put(in, p, vec2(uniform(rng, -40.0f, 1064.0f), uniform(rng, -40.0f, 1064.0f)));
+        put(in, p, std::floor(uniform(rng, 0.0f, 63.999f)));
+        put(in, p, std::floor(uniform(rng, 1.0f, 8.999f)));
+        put(in, p, 1023.0f);
+    }
+};
+
+/// Silhouettes: one texel of the 3x3 neighbourhood, clamped to the image (`neighbour_texel`).
+struct NeighbourTexelKernel {
+    static constexpr const char* name = "neighbour_texel";
+    static constexpr const char* source = "quadcast::neighbour_texel (quadcast/shading.hpp)";
+    static constexpr const char* summary = "the clamped texel at an offset from a pixel (silhouette neighbourhood)";
+    template <class IO> static void run(IO& io) {
+        using T = typename IO::T;
+        const Vec2<T> frag = io.template vec<2>("frag");
+        const T dx = io.scalar("dx"), dy = io.scalar("dy");
+        const Vec2<T> last = io.template vec<2>("last");
+        io.out("index", neighbour_texel(frag, dx, dy, last));
+    }
+    static void generate(std::mt19937& rng, std::span<float> in) {
+        std::size_t p = 0;
+        // Pixel centres, a third of them on the border rows and columns.
+        float x = std::floor(uniform(rng, 0.0f, 1023.999f)), y = std::floor(uniform(rng, 0.0f, 767.999f));
+        if (uniform(rng, 0.0f, 1.0f) < 0.33f) x = uniform(rng, 0.0f, 1.0f) < 0.5f ? 0.0f : 1023.0f;
+        if (uniform(rng, 0.0f, 1.0f) < 0.33f) y = uniform(rng, 0.0f, 1.0f) < 0.5f ? 0.0f : 767.0f;
+        put(in, p, vec2(x + 0.5f, y + 0.5f));
+        put(in, p, std::floor(uniform(rng, -1.0f, 1.999f)));
+        put(in, p, std::floor(uniform(rng, -1.0f, 1.999f)));
+        put(in, p, vec2(1023.0f, 767.0f));
+    }
+};
+
 /// Soft shadows: a pixel's shadow-map texel position and light depth (`shadow_coord`).
 struct ShadowCoordKernel {
     static constexpr const char* name = "shadow_coord";
@@ -487,6 +533,28 @@ struct EnvironmentTexelKernel {
         if (uniform(rng, 0.0f, 1.0f) < 0.2f) n[static_cast<int>(uniform(rng, 0.0f, 2.999f))] = 0.0f;
         put(in, p, n);
         put(in, p, random_direction(rng) * uniform(rng, 0.01f, 100.0f));
+        put(in, p, vec2(1024.0f, 512.0f));
+    }
+};
+
+/// Environment reflection: the four texels around the lookup position (`latlong_texels`).
+struct EnvironmentTexelsKernel {
+    static constexpr const char* name = "environment_texels";
+    static constexpr const char* source = "quadcast::latlong_texels (quadcast/shading.hpp)";
+    static constexpr const char* summary = "environment reflection: base texel and the wrapped columns, clamped rows around the position";
+    template <class IO> static void run(IO& io) {
+        using T = typename IO::T;
+        const Vec2<T> texel = io.template vec<2>("texel"), size = io.template vec<2>("size");
+        const LatlongTexels<T> l = latlong_texels(texel, size);
+        io.out("base", l.base);
+        io.out("index", l.index);
+    }
+    static void generate(std::mt19937& rng, std::span<float> in) {
+        std::size_t p = 0;
+        // The range latlong_texel gives (-0.5 .. size - 0.5), and the seams.
+        Vec2<float> t = vec2(uniform(rng, -0.5f, 1023.5f), uniform(rng, -0.5f, 511.5f));
+        if (uniform(rng, 0.0f, 1.0f) < 0.2f) t[0] = uniform(rng, 0.0f, 1.0f) < 0.5f ? uniform(rng, -0.5f, 0.5f) : uniform(rng, 1022.5f, 1023.5f);
+        put(in, p, t);
         put(in, p, vec2(1024.0f, 512.0f));
     }
 };

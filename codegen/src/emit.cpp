@@ -111,7 +111,7 @@ struct Printer {
             const Node& n = rec.node(f.id);
             if (n.op == Op::input || n.op == Op::literal || names.count(f.id)) { stack.pop_back(); continue; }
             const std::uint32_t operands[3] = {n.a, n.b, n.c};
-            const int arity = n.op == Op::select ? 3 : (n.op == Op::neg || n.op == Op::sqrt || n.op == Op::abs || n.op == Op::lnot || n.op == Op::isnan || n.op == Op::isinf) ? 1 : 2;
+            const int arity = n.op == Op::select ? 3 : (n.op == Op::neg || n.op == Op::sqrt || n.op == Op::abs || n.op == Op::lnot || n.op == Op::isnan || n.op == Op::isinf || n.op == Op::floor) ? 1 : 2;
             if (f.stage < arity) { const std::uint32_t child = operands[f.stage++]; stack.push_back({child, 0}); continue; }
             print(f.id, n);
             stack.pop_back();
@@ -130,6 +130,7 @@ struct Printer {
         case Op::neg: e = "-" + ref(n.a); break;
         case Op::sqrt: e = "sqrt(" + ref(n.a) + ")"; break;
         case Op::abs: e = "abs(" + ref(n.a) + ")"; break;
+        case Op::floor: e = "floor(" + ref(n.a) + ")"; break;
         case Op::lt: e = ref(n.a) + " < " + ref(n.b); break;
         case Op::le: e = ref(n.a) + " <= " + ref(n.b); break;
         case Op::gt: e = ref(n.a) + " > " + ref(n.b); break;

@@ -52,7 +52,7 @@ bool commutative(Op op) { return op == Op::add || op == Op::mul || op == Op::eq 
 int arity(Op op) {
     switch (op) {
     case Op::input: case Op::literal: return 0;
-    case Op::neg: case Op::sqrt: case Op::abs: case Op::lnot: case Op::isnan: case Op::isinf: return 1;
+    case Op::neg: case Op::sqrt: case Op::abs: case Op::lnot: case Op::isnan: case Op::isinf: case Op::floor: return 1;
     case Op::select: return 3;
     default: return 2;
     }
@@ -83,6 +83,7 @@ const char* op_symbol(Op op) {
     case Op::select: return "?:";
     case Op::isnan: return "isnan";
     case Op::isinf: return "isinf";
+    case Op::floor: return "floor";
     }
     return "?";
 }
@@ -173,6 +174,7 @@ std::uint32_t Recorder::make(Op op, Type type, std::uint32_t a, std::uint32_t b,
         case Op::lnot: return literal_bool(!bl(a));
         case Op::isnan: return literal_bool(std::isnan(f(a)));
         case Op::isinf: return literal_bool(std::isinf(f(a)));
+        case Op::floor: return literal_f32(std::floor(f(a)));
         default: break;
         }
     }
@@ -312,6 +314,7 @@ Mask select(const Mask& m, const Mask& a, const Mask& b) {
 }
 Expr sqrt(const Expr& x) { return Expr::from_id(rec().make(Op::sqrt, Type::f32, x.id)); }
 Expr abs(const Expr& x) { return Expr::from_id(rec().make(Op::abs, Type::f32, x.id)); }
+Expr floor(const Expr& x) { return Expr::from_id(rec().make(Op::floor, Type::f32, x.id)); }
 Mask isnan(const Expr& x) { return Mask::from_id(rec().make(Op::isnan, Type::boolean, x.id)); }
 Mask isinf(const Expr& x) { return Mask::from_id(rec().make(Op::isinf, Type::boolean, x.id)); }
 Mask isfinite(const Expr& x) { return !(isnan(x) || isinf(x)); }

@@ -33,6 +33,7 @@ void TracedKernel::run(std::span<const std::uint32_t> in, std::span<std::uint32_
         case Op::neg: v = F(-f(nd.a)); break;
         case Op::sqrt: v = F(std::sqrt(f(nd.a))); break;
         case Op::abs: v = F(std::fabs(f(nd.a))); break;
+        case Op::floor: v = F(std::floor(f(nd.a))); break;
         case Op::lt: v = B(f(nd.a) < f(nd.b)); break;
         case Op::le: v = B(f(nd.a) <= f(nd.b)); break;
         case Op::gt: v = B(f(nd.a) > f(nd.b)); break;

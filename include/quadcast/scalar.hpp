@@ -42,6 +42,9 @@ inline float sqrt(float x) { return std::sqrt(x); }
 inline double sqrt(double x) { return std::sqrt(x); }
 inline float abs(float x) { return std::fabs(x); }
 inline double abs(double x) { return std::fabs(x); }
+/// Round towards -infinity (exact in IEEE 754 and in GLSL).
+inline float floor(float x) { return std::floor(x); }
+inline double floor(double x) { return std::floor(x); }
 
 /// True where x is neither infinite nor NaN.
 inline bool isfinite(float x) { return std::isfinite(x); }

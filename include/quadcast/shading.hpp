@@ -102,22 +102,42 @@ T pcf_soft_shadow(const T& z, const T& bias, const T (&s)[64]) {
 
 /// Texel offsets of the 64 PCF samples: an 8x8 grid of offsets -7, -5, ..., 7 (in half texels of
 /// the grid step), ordered so that the first 8 spread over the whole footprint (corners, then edge
-/// midpoints). Host/plumbing data (plain ints), not traced.
+/// midpoints). Data: the stages index it by sample and pass the cell to `pcf_sample_texel`.
 inline constexpr int pcf_grid_order[64] = {
     0, 7, 56, 63, 3, 24, 39, 60,   // first 8: corners and edge samples
     1, 2, 4, 5, 6, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20, 21, 22, 23, 25, 26, 27, 28,
     29, 30, 31, 32, 33, 34, 35, 36, 37, 38, 40, 41, 42, 43, 44, 45, 46, 47, 48, 49, 50, 51, 52, 53,
     54, 55, 57, 58, 59, 61, 62};
 
-/// Texel offset (x, y) of PCF sample k (0..63) for a grid step of `step` texels: grid cell
-/// g = pcf_grid_order[k] at (g % 8, g / 8) times step, minus (7 step) / 2 (integer division), so
-/// a step of 2 gives -7, -5, ..., 7. Host/plumbing (plain ints).
-inline void pcf_offset(int k, int step, int& dx, int& dy) {
-    const int g = pcf_grid_order[k];
-    dx = (g % 8) * step - (7 * step) / 2;
-    dy = (g / 8) * step - (7 * step) / 2;
+/// A texel index clamped to [0, last]: the index itself inside, 0 below (and for NaN), `last`
+/// above. Indices are integers held in float (exact below 2^24).
+/// Numerics: select(i >= 0, min(i, last), 0) (exact).
+template <class T>
+T clamp_texel(const T& i, const T& last) {
+    return select(i >= T(0), min(i, last), T(0));
 }
 
+/// The texel of PCF sample grid cell g (pcf_grid_order[k], 0..63) around the shadow-map position
+/// `texel` (`shadow_coord`), for a grid step of `step` texels, clamped to [0, last] (last = map
+/// size - 1): floor(texel) + (g mod 8, g div 8) step - floor(7 step / 2), so a step of 2 gives
+/// offsets -7, -5, ..., 7. A NaN or huge position gives a texel of the map's border.
+/// Numerics: gy = floor(g / 8) (exact: a power of two), gx = g - 8 gy; every term an integer
+/// below 2^24 in float (exact); `clamp_texel` per component.
+template <class T>
+Vec2<T> pcf_sample_texel(const Vec2<T>& texel, const T& g, const T& step, const T& last) {
+    const T gy = floor(g / T(8));
+    const T gx = g - T(8) * gy;
+    const T centre = floor(T(7) * step / T(2));
+    return vec2(clamp_texel(floor(texel[0]) + gx * step - centre, last), clamp_texel(floor(texel[1]) + gy * step - centre, last));
+}
+
+/// The texel at offset (dx, dy) from the pixel at window position `frag` (a pixel centre, i + 0.5),
+/// clamped to the image [0, last.x] x [0, last.y]: the 3x3 neighbourhood of the silhouette pass.
+/// Numerics: floor(frag) + d (exact integers), `clamp_texel` per component.
+template <class T>
+Vec2<T> neighbour_texel(const Vec2<T>& frag, const T& dx, const T& dy, const Vec2<T>& last) {
+    return vec2(clamp_texel(floor(frag[0]) + dx, last[0]), clamp_texel(floor(frag[1]) + dy, last[1]));
+}
 
 /// Where a pixel's surface point falls in the shadow map: the camera's window position
 /// (frag = pixel centre, window depth d, viewport size) is taken to the camera's NDC, mapped by
@@ -198,10 +218,35 @@ Vec2<T> latlong_texel(const Vec3<T>& r, const Vec2<T>& size) {
     return vec2(u * size[0] - T(0.5), v * size[1] - T(0.5));
 }
 
+/// The four texels around a latitude-longitude lookup position `texel` (`latlong_texel`) of an
+/// image of `size` texels: base = floor(texel) clamped to [-1, size - 1] (NaN to -1), and the
+/// indices (x0, x1, y0, y1) of the columns base.x and base.x + 1, wrapped around (-1 is the last
+/// column, size.x the first), and of the rows base.y and base.y + 1, clamped to the image.
+template <class T>
+struct LatlongTexels {
+    Vec2<T> base;
+    Vec4<T> index;  ///< x0, x1, y0, y1
+};
+
+/// Numerics: integers in float (exact below 2^24): b = select(f >= -1, min(f, size - 1), -1) with
+/// f = floor(texel); x0 = select(b.x < 0, size.x - 1, b.x), x1 = select(b.x + 1 < size.x,
+/// b.x + 1, 0), y0 = max(b.y, 0), y1 = min(b.y + 1, size.y - 1).
+template <class T>
+LatlongTexels<T> latlong_texels(const Vec2<T>& texel, const Vec2<T>& size) {
+    const auto base = [](const T& v, const T& hi) {
+        const T f = floor(v);
+        return select(f >= T(-1), min(f, hi), T(-1));
+    };
+    const T bx = base(texel[0], size[0] - T(1)), by = base(texel[1], size[1] - T(1));
+    const T x0 = select(bx < T(0), size[0] - T(1), bx);
+    const T x1 = select(bx + T(1) < size[0], bx + T(1), T(0));
+    return {vec2(bx, by), vec4(x0, x1, max(by, T(0)), min(by + T(1), size[1] - T(1)))};
+}
+
 /// Environment-map reflection mixed into a shaded colour: the bilinear interpolation of the four
-/// texels around the lookup position `texel` (`latlong_texel`), c00 at base = floor(texel),
-/// c10 one column right, c01 one row down, c11 both (the caller fetches them, wrapping columns and
-/// clamping rows), mixed as rgb (1 - k) + env k with the reflectivity k in [0, 1].
+/// texels around the lookup position `texel` (`latlong_texel`), c00 at base (`latlong_texels`),
+/// c10 one column right, c01 one row down, c11 both (the caller fetches them at the indices of
+/// `latlong_texels`), mixed as rgb (1 - k) + env k with the reflectivity k in [0, 1].
 /// Numerics: f = texel - base (exact for |texel| < 2^23); top = c00 + (c10 - c00) f.x, bottom
 /// likewise, env = top + (bottom - top) f.y; then rgb * (1 - k) + env * k per component.
 template <class T>

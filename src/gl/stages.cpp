@@ -24,21 +24,20 @@ const std::string record_glsl = render::record_glsl();
 
 /// Environment reflection (forward and deferred shading): the latitude-longitude image and the
 /// reflectivity, and the lookup around the traced kernels: `environment_texel` gives the position,
-/// the plumbing fetches the four texels around it (columns wrap, rows clamp; floor(position)
-/// clamped to [-1, size - 1], which holds every finite position) and `environment_mix` blends
-/// them into the colour. quadcast::render::reflect_environment is the same on the CPU.
+/// `environment_texels` the four texels around it (columns wrap, rows clamp), the plumbing
+/// fetches them and `environment_mix` blends them into the colour.
+/// quadcast::render::reflect_environment is the same on the CPU.
 const char* environment_glsl =
     "vec3 qc_reflect_environment(vec3 rgb, vec3 n, vec3 e)\n{\n"
     "    ivec2 size = textureSize(qc_environment, 0);\n"
     "    vec2 t;\n"
     "    qc_environment_texel(n, e, vec2(size), t);\n"
-    "    vec2 b = clamp(floor(t), vec2(-1.0), vec2(size - 1));\n"
-    "    ivec2 i = ivec2(b);\n"
-    "    int x0 = i.x < 0 ? size.x - 1 : i.x, x1 = i.x + 1 < size.x ? i.x + 1 : 0;\n"
-    "    int y0 = max(i.y, 0), y1 = min(i.y + 1, size.y - 1);\n"
+    "    vec2 b;\n"
+    "    vec4 x;  // columns x0, x1, rows y0, y1\n"
+    "    qc_environment_texels(t, vec2(size), b, x);\n"
     "    vec3 mixed;\n"
-    "    qc_environment_mix(rgb, t, b, texelFetch(qc_environment, ivec2(x0, y0), 0).rgb, texelFetch(qc_environment, ivec2(x1, y0), 0).rgb,\n"
-    "        texelFetch(qc_environment, ivec2(x0, y1), 0).rgb, texelFetch(qc_environment, ivec2(x1, y1), 0).rgb, qc_reflectivity, mixed);\n"
+    "    qc_environment_mix(rgb, t, b, texelFetch(qc_environment, ivec2(x.xz), 0).rgb, texelFetch(qc_environment, ivec2(x.yz), 0).rgb,\n"
+    "        texelFetch(qc_environment, ivec2(x.xw), 0).rgb, texelFetch(qc_environment, ivec2(x.yw), 0).rgb, qc_reflectivity, mixed);\n"
     "    return mixed;\n}\n\n";
 
 const char* environment_uniforms =
@@ -141,6 +140,7 @@ Stage fragment_shader(const render::QuadricKey& k) {
     if (!gbuffer) add_kernel(s, fns, "shade_blinn_phong");
     if (env) {
         add_kernel(s, fns, "environment_texel");
+        add_kernel(s, fns, "environment_texels");
         add_kernel(s, fns, "environment_mix");
         fns << environment_glsl;
     }
@@ -223,14 +223,19 @@ Stage deferred_shader(bool silhouettes, bool shadows, bool env) {
     Stage s;
     std::ostringstream fns;
     add_kernel(s, fns, shadows ? "shade_blinn_phong_shadowed" : "shade_blinn_phong");
-    if (silhouettes) add_kernel(s, fns, "silhouette");
+    if (silhouettes) {
+        add_kernel(s, fns, "silhouette");
+        add_kernel(s, fns, "neighbour_texel");
+    }
     if (shadows) {
         add_kernel(s, fns, "shadow_coord");
         add_kernel(s, fns, "pcf_first8");
         add_kernel(s, fns, "pcf64");
+        add_kernel(s, fns, "pcf_sample_texel");
     }
     if (env) {
         add_kernel(s, fns, "environment_texel");
+        add_kernel(s, fns, "environment_texels");
         add_kernel(s, fns, "environment_mix");
         fns << environment_glsl;
     }
@@ -250,20 +255,20 @@ Stage deferred_shader(bool silhouettes, bool shadows, bool env) {
              "uniform vec2 qc_viewport;\n"
              "uniform float qc_shadow_size;  // shadow map size (texels)\n"
              "uniform float qc_shadow_bias;  // light window depth\n"
-             "uniform int qc_pcf_step;       // texels between PCF samples\n"
-             "// PCF samples: grid index (8x8) in quadcast::pcf_grid_order, the first 8 spread out.\n"
-             "const int qc_pcf_order[64] = int[64](";
-        for (int i = 0; i < 64; ++i) m << (i ? ", " : "") << pcf_grid_order[i];
+             "uniform float qc_pcf_step;     // texels between PCF samples\n"
+             "// PCF samples: grid cell (8x8) in quadcast::pcf_grid_order, the first 8 spread out.\n"
+             "const float qc_pcf_order[64] = float[64](";
+        for (int i = 0; i < 64; ++i) m << (i ? ", " : "") << pcf_grid_order[i] << ".0";
         m << ");\n";
     }
     if (env) m << environment_uniforms;
     m << "layout(location = 0) out vec4 qc_color;\n\n";
     m << fns.str();
     if (shadows)
-        m << "float qc_shadow_sample(ivec2 base, int k)\n{\n"
-             "    int g = qc_pcf_order[k];\n"
-             "    ivec2 o = ivec2(g % 8, g / 8) * qc_pcf_step - (7 * qc_pcf_step) / 2;  // quadcast::pcf_offset\n"
-             "    return texelFetch(qc_shadow_map, clamp(base + o, ivec2(0), textureSize(qc_shadow_map, 0) - 1), 0).r;\n"
+        m << "float qc_shadow_sample(vec2 st, int k)\n{\n"
+             "    vec2 t;\n"
+             "    qc_pcf_sample_texel(st, qc_pcf_order[k], qc_pcf_step, qc_shadow_size - 1.0, t);\n"
+             "    return texelFetch(qc_shadow_map, ivec2(t), 0).r;\n"
              "}\n\n";
     m << "void main()\n{\n"
          "    ivec2 px = ivec2(gl_FragCoord.xy);\n"
@@ -275,13 +280,12 @@ Stage deferred_shader(bool silhouettes, bool shadows, bool env) {
     if (shadows)
         m << "        vec2 st;\n        float lz;\n"
              "        qc_shadow_coord(gl_FragCoord.xy, gn.w, qc_viewport, qc_to_light, qc_shadow_size, st, lz);\n"
-             "        ivec2 base = ivec2(floor(st));\n"
              "        float s[64];\n"
-             "        for (int k = 0; k < 8; ++k) s[k] = qc_shadow_sample(base, k);\n"
+             "        for (int k = 0; k < 8; ++k) s[k] = qc_shadow_sample(st, k);\n"
              "        float vis;\n        bool decided;\n"
              "        qc_pcf_first8(lz, qc_shadow_bias, s[0], s[1], s[2], s[3], s[4], s[5], s[6], s[7], vis, decided);\n"
              "        if (!decided) {  // penumbra: all 64 samples (Sigg et al. 2006, sec. 4)\n"
-             "            for (int k = 8; k < 64; ++k) s[k] = qc_shadow_sample(base, k);\n"
+             "            for (int k = 8; k < 64; ++k) s[k] = qc_shadow_sample(st, k);\n"
              "            qc_pcf64(lz, qc_shadow_bias";
     if (shadows) {
         for (int i = 0; i < 64; ++i) m << (i % 8 == 0 ? ",\n                " : ", ") << "s[" << i << "]";
@@ -294,11 +298,14 @@ Stage deferred_shader(bool silhouettes, bool shadows, bool env) {
     if (env) m << "        rgb = qc_reflect_environment(rgb, gn.xyz, -gv.xyz);\n";
     m << "    }\n";
     if (silhouettes) {
-        m << "    ivec2 last = textureSize(qc_gnormal, 0) - 1;\n"
+        m << "    vec2 last = vec2(textureSize(qc_gnormal, 0) - 1);\n"
              "    vec4 t[9];\n"
              "    for (int r = 0; r < 3; ++r)\n"
-             "        for (int c = 0; c < 3; ++c)  // row 0 = top (window y + 1)\n"
-             "            t[3 * r + c] = texelFetch(qc_gnormal, clamp(px + ivec2(c - 1, 1 - r), ivec2(0), last), 0);\n"
+             "        for (int c = 0; c < 3; ++c) {  // row 0 = top (window y + 1)\n"
+             "            vec2 q;\n"
+             "            qc_neighbour_texel(gl_FragCoord.xy, float(c - 1), float(1 - r), last, q);\n"
+             "            t[3 * r + c] = texelFetch(qc_gnormal, ivec2(q), 0);\n"
+             "        }\n"
              "    qc_silhouette(t[0].w, t[1].w, t[2].w, t[3].w, t[4].w, t[5].w, t[6].w, t[7].w, t[8].w,\n"
              "        t[0].xyz, t[1].xyz, t[2].xyz, t[3].xyz, t[4].xyz, t[5].xyz, t[6].xyz, t[7].xyz, t[8].xyz,\n"
              "        qc_pz, qc_silhouette_params, rgb, rgb);\n";

@@ -258,7 +258,7 @@ private:
             gl.Uniform2f(prog.uniform_location("qc_viewport"), static_cast<float>(opt.width), static_cast<float>(opt.height));
             gl.Uniform1f(prog.uniform_location("qc_shadow_size"), static_cast<float>(shadow_size_));
             gl.Uniform1f(prog.uniform_location("qc_shadow_bias"), opt.shadow_bias / static_cast<float>(shadow_size_));
-            gl.Uniform1i(prog.uniform_location("qc_pcf_step"), opt.pcf_step);
+            gl.Uniform1f(prog.uniform_location("qc_pcf_step"), static_cast<float>(opt.pcf_step));
         }
         gl.DrawArrays(GL_TRIANGLES, 0, 3);
         for (int i = 0; i < 5; ++i) gl.BindTextureUnit(static_cast<GLuint>(i), 0);

@@ -264,18 +264,15 @@ struct ShadowLookup {
 };
 
 /// Soft-shadow visibility of the surface at window position (fx, fy) and depth d, as the GL
-/// deferred pass computes it: `shadow_coord`, the 64 texels around floor(texel) at `pcf_offset`
-/// (clamped to the map), `pcf_soft_shadow` (= `pcf_first8`, then `pcf_lit_fraction<64>` if undecided).
+/// deferred pass computes it: `shadow_coord`, the 64 texels of `pcf_sample_texel` (grid cells in
+/// `pcf_grid_order`), `pcf_soft_shadow` (= `pcf_first8`, then `pcf_lit_fraction<64>` if undecided).
 inline float shadow_visibility(const ShadowLookup& sh, float fx, float fy, float d) {
     const ShadowCoord<float> c = shadow_coord(vec2(fx, fy), d, sh.viewport, sh.to_light, static_cast<float>(sh.size));
-    // (clamped before the int conversion: a NaN or huge coordinate stays defined)
-    const int bx = static_cast<int>(std::clamp(std::floor(c.texel[0]), -1e6f, 1e6f));
-    const int by = static_cast<int>(std::clamp(std::floor(c.texel[1]), -1e6f, 1e6f));
     float smp[64];
     for (int k = 0; k < 64; ++k) {
-        int dx = 0, dy = 0;
-        pcf_offset(k, sh.step, dx, dy);
-        const int x = std::clamp(bx + dx, 0, sh.size - 1), y = std::clamp(by + dy, 0, sh.size - 1);
+        const Vec2<float> t = pcf_sample_texel(c.texel, static_cast<float>(pcf_grid_order[k]), static_cast<float>(sh.step),
+                                               static_cast<float>(sh.size - 1));
+        const int x = static_cast<int>(t[0]), y = static_cast<int>(t[1]);
         smp[k] = sh.map[std::size_t(sh.size - 1 - y) * sh.size + x];
     }
     return pcf_soft_shadow(c.z, sh.bias, smp);
@@ -352,10 +349,15 @@ void parallel_for(int n, int threads, Fn&& fn) {
 /// hits = casts with a hit in the depth range (before the depth test). Throws like `validate` for a
 /// primitive that cannot be drawn as it says.
 inline Image render_cpu(const std::vector<Primitive>& prims, const Camera& camera, const Light& light,
-                        const RenderOptions& options, FrameStats* stats = nullptr, int threads = 0) {
-    using namespace cpu_detail;
+                        const RenderOptions& options, FrameStats* stats = nullptr, int threads = 0);
+
+namespace cpu_detail {
+
+/// `render_cpu` of primitives that `validate_primitives` accepted (the shadow pass renders the
+/// same primitives again without checking them twice).
+inline Image render_validated(const std::vector<Primitive>& prims, const Camera& camera, const Light& light,
+                              const RenderOptions& options, FrameStats* stats, int threads) {
     const FrameSetup f = frame_setup(camera, options.width, options.height);
-    validate_primitives(prims);
     if (threads <= 0) threads = std::max(1u, std::thread::hardware_concurrency());
     const int n = static_cast<int>(prims.size());
     const int tiles_x = (f.width + tile_size - 1) / tile_size, tiles_y = (f.height + tile_size - 1) / tile_size;
@@ -404,7 +406,7 @@ inline Image render_cpu(const std::vector<Primitive>& prims, const Camera& camer
         RenderOptions lo;
         lo.width = lo.height = options.shadow_map_size;
         lo.culling = options.culling;
-        shadow.map = render_cpu(prims, lc, light, lo, nullptr, threads).depth;
+        shadow.map = render_validated(prims, lc, light, lo, nullptr, threads).depth;
         shadow.size = options.shadow_map_size;
         shadow.step = options.pcf_step;
         shadow.bias = options.shadow_bias / static_cast<float>(options.shadow_map_size);
@@ -476,13 +478,16 @@ inline Image render_cpu(const std::vector<Primitive>& prims, const Camera& camer
     // Silhouette and crease outlines from the 3x3 neighbourhoods (clamped at the image border),
     // as the GL deferred pass does
     if (options.silhouettes) {
+        const Vec2<float> last = vec2(float(f.width - 1), float(f.height - 1));
         parallel_for(f.height, threads, [&](int yi, int) {
             for (int xi = 0; xi < f.width; ++xi) {
                 float d[9];
                 Vec3<float> nb[9];
                 for (int r = 0; r < 3; ++r)
                     for (int c = 0; c < 3; ++c) {
-                        const int yy = std::clamp(yi + r - 1, 0, f.height - 1), xx = std::clamp(xi + c - 1, 0, f.width - 1);
+                        // (image rows top first: row r - 1 down; the GL pass counts window rows up)
+                        const Vec2<float> t = neighbour_texel(vec2(xi + 0.5f, yi + 0.5f), float(c - 1), float(r - 1), last);
+                        const int xx = static_cast<int>(t[0]), yy = static_cast<int>(t[1]);
                         const std::size_t q = std::size_t(yy) * f.width + xx;
                         d[3 * r + c] = img.depth[q];
                         nb[3 * r + c] = normals[q];
@@ -505,6 +510,14 @@ inline Image render_cpu(const std::vector<Primitive>& prims, const Camera& camer
         }
     }
     return img;
+}
+
+}  // namespace cpu_detail
+
+inline Image render_cpu(const std::vector<Primitive>& prims, const Camera& camera, const Light& light, const RenderOptions& options,
+                        FrameStats* stats, int threads) {
+    validate_primitives(prims);
+    return cpu_detail::render_validated(prims, camera, light, options, stats, threads);
 }
 
 }  // namespace quadcast::render

@@ -2,9 +2,9 @@
 #pragma once
 
 // Host-only. The lookup is the plumbing of the GL stages' `qc_reflect_environment`
-// (codegen/src/stages.cpp) around the same templates: `reflect_view` and `latlong_texel` give the
-// position, the four texels around it are fetched (columns wrap, rows clamp) and
-// `environment_mix` blends them into the colour. The GL renderer stores the texels as RGBA32F
+// (src/gl/stages.cpp) around the same templates: `reflect_view` and `latlong_texel` give the
+// position, `latlong_texels` the four texels around it (columns wrap, rows clamp), which are
+// fetched, and `environment_mix` blends them into the colour. The GL renderer stores the texels as RGBA32F
 // and reads them with texelFetch (no sampler filtering), so for equal normal and view vectors
 // the two renderers compute the same bits.
 
@@ -82,25 +82,21 @@ inline EnvironmentMap environment_from_rgba8(int width, int height, const std::u
 }
 
 /// Mixes the environment's reflection into a shaded colour, as the GL stages do
-/// (`qc_reflect_environment`): t = `latlong_texel(reflect_view(n, e), size)`, b = floor(t) clamped
-/// to [-1, size - 1], texels (x0, y0), (x1, y0), (x0, y1), (x1, y1) with x0 = b.x (size.x - 1 for
-/// -1), x1 = b.x + 1 (0 for size.x), y0 = max(b.y, 0), y1 = min(b.y + 1, size.y - 1), then
-/// `environment_mix(rgb, t, b, ...)`. e points towards the eye; neither need be unit.
+/// (`qc_reflect_environment`): t = `latlong_texel(reflect_view(n, e), size)`, the texels
+/// (x0, y0), (x1, y0), (x0, y1), (x1, y1) of `latlong_texels(t, size)`, then
+/// `environment_mix(rgb, t, base, ...)`. e points towards the eye; neither need be unit.
 inline Vec3<float> reflect_environment(const EnvironmentMap& env, const Vec3<float>& rgb, const Vec3<float>& n, const Vec3<float>& e,
                                        float reflectivity) {
     const Vec2<float> size = vec2(static_cast<float>(env.width), static_cast<float>(env.height));
     const Vec2<float> t = latlong_texel(reflect_view(n, e), size);
-    // (NaN compares false: it becomes -1, a defined texel)
-    const auto base = [](float v, float hi) { const float f = std::floor(v); return f >= -1.0f ? std::min(f, hi) : -1.0f; };
-    const Vec2<float> b = vec2(base(t[0], size[0] - 1.0f), base(t[1], size[1] - 1.0f));
-    const int ix = static_cast<int>(b[0]), iy = static_cast<int>(b[1]);
-    const int x0 = ix < 0 ? env.width - 1 : ix, x1 = ix + 1 < env.width ? ix + 1 : 0;
-    const int y0 = std::max(iy, 0), y1 = std::min(iy + 1, env.height - 1);
+    const LatlongTexels<float> l = latlong_texels(t, size);
+    const int x0 = static_cast<int>(l.index[0]), x1 = static_cast<int>(l.index[1]);
+    const int y0 = static_cast<int>(l.index[2]), y1 = static_cast<int>(l.index[3]);
     const auto texel = [&](int x, int y) {
         const float* p = &env.rgb[(std::size_t(y) * env.width + x) * 3];
         return vec3(p[0], p[1], p[2]);
     };
-    return environment_mix(rgb, t, b, texel(x0, y0), texel(x1, y0), texel(x0, y1), texel(x1, y1), reflectivity);
+    return environment_mix(rgb, t, l.base, texel(x0, y0), texel(x1, y0), texel(x0, y1), texel(x1, y1), reflectivity);
 }
 
 }  // namespace quadcast::render

@@ -20,6 +20,7 @@ enum class Op : std::uint8_t {
     lt, le, gt, ge, eq, ne,
     land, lor, lnot,
     select, isnan, isinf,
+    floor,  // appended: the enumerators take part in the structural hashes
 };
 
 /// Spelling of an operation in reports and banners (`+`, `sqrt`, `?:` ...).
@@ -135,6 +136,7 @@ Expr select(const Mask& m, const Expr& a, const Expr& b);
 Mask select(const Mask& m, const Mask& a, const Mask& b);
 Expr sqrt(const Expr& x);
 Expr abs(const Expr& x);
+Expr floor(const Expr& x);
 Mask isnan(const Expr& x);
 Mask isinf(const Expr& x);
 /// Neither infinite nor NaN.
