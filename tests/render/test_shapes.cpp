@@ -8,6 +8,7 @@
 #include <optional>
 #include <string>
 
+#include "quadcast/isosurface.hpp"
 #include "quadcast/shapes.hpp"
 #include "render/render_testing.hpp"
 
@@ -400,4 +401,108 @@ TEST_CASE("hand-made primitives are validated by the renderers") {
     // Valid ones pass.
     CHECK(message(cylinder(vec3(0.0f, 0.0f, 0.0f), vec3(0.0f, 0.0f, 1.0f), 0.5f, 1.0f)).empty());
     CHECK(message(shapes::cone({0, 0, 0}, {0, 0, 1}, 0.3f, false)).empty());
+}
+
+namespace {
+
+/// Samples of the distance to `c` on an anisotropic grid around it: nx x ny x nz samples from
+/// `origin` with `spacing` (a different spacing per axis, so that a swapped axis shows).
+quadcast::spline::Volume<float> distance_volume(const V3& c, const glm::dvec3& origin, const glm::dvec3& spacing, int nx, int ny, int nz) {
+    quadcast::spline::Volume<float> v(nx, ny, nz);
+    for (int k = 0; k < nz; ++k)
+        for (int j = 0; j < ny; ++j)
+            for (int i = 0; i < nx; ++i) {
+                const V3 x = vec3(LD(origin.x + spacing.x * i), LD(origin.y + spacing.y * j), LD(origin.z + spacing.z * k));
+                v.at(i, j, k) = float(norm_ld(x - c));
+            }
+    return v;
+}
+
+/// A 96 x 72 view from `eye` to `target` (35 degrees) with a light from the upper left.
+struct IsoView {
+    Light light;
+    RenderOptions options;
+    Camera camera;
+    IsoView(const Vec3<double>& eye, const Vec3<double>& target)
+        : camera(look_at(eye, target, vec3(0.0, 1.0, 0.0), perspective(35, 96.0 / 72, 1, 20))) {
+        light.direction = vec3(-0.3f, -0.4f, -1.0f);
+        options.width = 96;
+        options.height = 72;
+    }
+};
+
+}  // namespace
+
+TEST_CASE("volume isosurface: placed by origin and spacing where an independent tracer sees the sphere") {
+    // f = |x - c| sampled on an anisotropic grid; f = 1 is the sphere of radius 1 around c.
+    const V3 c = vec3(LD(0.2), LD(-0.1), LD(0.15));
+    const glm::dvec3 spacing(0.1, 0.125, 0.09), origin(-1.4, -1.6, -1.3);
+    const auto vol = distance_volume(c, origin, spacing, 30, 24, 33);
+    const IsoView v(vec3(0.5, 0.8, 5.0), vec3(0.1, 0.0, 0.0));
+    const Light& light = v.light;
+    const RenderOptions& o = v.options;
+    const Camera& cam = v.camera;
+    const ExactCamera ex(cam, o.width, o.height);
+    for (const shapes::Reconstruction scheme : {shapes::Reconstruction::qss, shapes::Reconstruction::s31, shapes::Reconstruction::trilinear}) {
+        const quadcast::render::VolumeModel m = shapes::isosurface(vol, origin, spacing, 1.0f, scheme, {}, true);
+        const Image img = quadcast::render::render_volumes_cpu({&m}, cam, light, o);
+        // Rays that pass the centre closer than 0.9 must hit, farther than 1.1 must miss (the
+        // reconstruction of a distance field is within a fraction of a voxel of the sphere).
+        long inside = 0, outside = 0, wrong = 0;
+        for (int y = 0; y < o.height; ++y)
+            for (int x = 0; x < o.width; ++x) {
+                V3 ro, rd;
+                ex.ray(x, y, ro, rd);
+                const LD dist = line_distance(ro, rd, c);
+                if (dist < 0.9L) {
+                    ++inside;
+                    wrong += !covered(img, x, y);
+                } else if (dist > 1.1L) {
+                    ++outside;
+                    wrong += covered(img, x, y);
+                }
+            }
+        std::printf("[isosurface] %s: %ld inside, %ld outside pixels, %ld wrong\n", quadcast::render::volume_scheme_name(scheme), inside, outside, wrong);
+        CHECK(inside > 1000);
+        CHECK(wrong == 0);
+    }
+}
+
+TEST_CASE("volume isosurface: specular and shininess reach the picture; invalid input names the field") {
+    const V3 c = vec3(LD(0), LD(0), LD(0));
+    const glm::dvec3 spacing(0.1, 0.1, 0.1), origin(-1.5, -1.5, -1.5);
+    const auto vol = distance_volume(c, origin, spacing, 31, 31, 31);
+    const IsoView v(vec3(0.0, 0.0, 5.0), vec3(0.0, 0.0, 0.0));
+    const Light& light = v.light;
+    const RenderOptions& o = v.options;
+    const Camera& cam = v.camera;
+    const shapes::Appearance matte{{0.5f, 0.3f, 0.2f}, 0.0f, 2.0f}, shiny{{0.5f, 0.3f, 0.2f}, 1.0f, 200.0f};
+    const quadcast::render::VolumeModel a = shapes::isosurface(vol, origin, spacing, 1.0f, shapes::Reconstruction::qss, matte, true);
+    const quadcast::render::VolumeModel b = shapes::isosurface(vol, origin, spacing, 1.0f, shapes::Reconstruction::qss, shiny, true);
+    const Image ia = quadcast::render::render_volumes_cpu({&a}, cam, light, o), ib = quadcast::render::render_volumes_cpu({&b}, cam, light, o);
+    int brightest_a = 0, brightest_b = 0;
+    for (std::size_t i = 0; i < ia.depth.size(); ++i) {
+        if (ia.depth[i] >= 1.0f) continue;
+        brightest_a = std::max(brightest_a, int(ia.rgba[i * 4]));
+        brightest_b = std::max(brightest_b, int(ib.rgba[i * 4]));
+    }
+    std::printf("[isosurface materials] matte brightest red %d, shiny %d\n", brightest_a, brightest_b);
+    CHECK(brightest_a <= 128);
+    CHECK(brightest_b == 255);
+
+    auto message = [&](auto&& fn) -> std::string {
+        try {
+            fn();
+        } catch (const std::invalid_argument& e) {
+            return e.what();
+        }
+        return "";
+    };
+    CHECK(message([&] { shapes::isosurface(vol, origin, spacing, 5.0f); }).find("isosurface: iso 5 is outside the range of the samples") != std::string::npos);
+    CHECK(message([&] { shapes::isosurface(vol, origin, spacing, std::nanf("")); }).find("iso must be finite") != std::string::npos);
+    CHECK(message([&] { shapes::isosurface(vol, origin, glm::dvec3(0.1, 0.0, 0.1), 1.0f); }).find("spacing must be positive") != std::string::npos);
+    CHECK(message([&] { shapes::isosurface(vol, glm::dvec3(0, std::nan(""), 0), spacing, 1.0f); }).find("origin must be finite") != std::string::npos);
+    CHECK(message([&] { shapes::isosurface(vol, origin, spacing, 1.0f, shapes::Reconstruction::qss, {{1.5f, 0, 0}}); }).find("color") != std::string::npos);
+    CHECK(message([&] { shapes::isosurface(quadcast::spline::Volume<float>(1, 4, 4), origin, spacing, 0.0f, shapes::Reconstruction::trilinear); })
+              .find("at least 2 samples") != std::string::npos);
 }

@@ -16,6 +16,7 @@
 #include "quadcast/gl/quadric_renderer.hpp"
 #include "quadcast/render/cpu_renderer.hpp"
 #include "quadcast/render/spline_cpu_renderer.hpp"
+#include "quadcast/isosurface.hpp"
 #include "quadcast/volume/load.hpp"
 #include "quadcast/scene/scene_json.hpp"
 #include "quadcast/scene/scene_render.hpp"
@@ -86,7 +87,12 @@ std::vector<render::VolumeModel> prepare_volumes(const scene::Scene& sc, bool cp
             std::fprintf(stderr, "%s: preparing %s (%dx%dx%d, %s): %d%%\n", sc.source.string().c_str(), v.input.c_str(), d.nx(), d.ny(), d.nz(),
                          render::volume_scheme_name(scheme), 10 * step);
         };
-        out.push_back(render::prepare_volume(d.grid, d.origin, d.spacing, scheme, float(v.iso), cast<float>(v.material.color), 0, cpu, progress));
+        shapes::Appearance look;
+        look.color = glm::vec3(float(v.material.color[0]), float(v.material.color[1]), float(v.material.color[2]));
+        look.specular = float(v.material.specular);
+        look.shininess = float(v.material.shininess);
+        out.push_back(shapes::isosurface(d.grid, glm::dvec3(d.origin[0], d.origin[1], d.origin[2]), glm::dvec3(d.spacing[0], d.spacing[1], d.spacing[2]),
+                                         float(v.iso), scheme, look, cpu, 0, progress));
     }
     return out;
 }
