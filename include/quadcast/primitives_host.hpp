@@ -32,15 +32,20 @@ inline Mat4<double> from_eigen(const Eigen::Matrix4d& m) {
     return a;
 }
 
-/// Conic matrix Q = T^-T D T^-1 (Sigg et al. 2006, eq. 1) in double, T^-1 by Eigen's
-/// full-pivoting LU. Works for projective T (paraboloids). Throws std::invalid_argument when T
+/// Conic matrix Q = T^-T D T^-1 (Sigg et al. 2006, eq. 1) in double, T^-1 by `host_inverse`
+/// (Gauss-Jordan with partial pivoting in long double). Works for projective T (paraboloids). Throws std::invalid_argument when T
 /// is singular or not finite.
 inline Quadric<double> quadric_from_form(const Vec4<double>& d, const Mat4<double>& t) {
-    const Eigen::Matrix4d te = to_eigen(t);
-    if (!te.allFinite()) throw std::invalid_argument("variance matrix T has a NaN or infinite entry");
-    const Eigen::FullPivLU<Eigen::Matrix4d> lu(te);
-    if (!lu.isInvertible()) throw std::invalid_argument("variance matrix T is singular");
-    const Eigen::Matrix4d ti = lu.inverse();
+    for (int j = 0; j < 4; ++j)
+        for (int i = 0; i < 4; ++i)
+            if (!std::isfinite(t[j][i])) throw std::invalid_argument("variance matrix T has a NaN or infinite entry");
+    Mat4<double> t_inv;
+    try {
+        t_inv = host_inverse(t);
+    } catch (const std::invalid_argument&) {
+        throw std::invalid_argument("variance matrix T is singular");
+    }
+    const Eigen::Matrix4d ti = to_eigen(t_inv);
     const Eigen::Vector4d dv(d[0], d[1], d[2], d[3]);
     Eigen::Matrix4d q = ti.transpose() * dv.asDiagonal() * ti;
     q = ((q + q.transpose()) * 0.5).eval();  // eval: q is aliased

@@ -414,11 +414,10 @@ inline QuadClip quad_clip(const std::array<Vec3<double>, 4>& q, const Vec3<doubl
     const V3 a = q[1] - q[0], b = q[3] - q[0], nn = cross(a, b);
     const double ln = length(nn);
     if (ln > 0) {
-        Eigen::Matrix3d m;
-        const V3 nh = nn / ln;
-        for (int i = 0; i < 3; ++i) { m(i, 0) = a[i]; m(i, 1) = b[i]; m(i, 2) = nh[i]; }
-        const V3 d = q[2] - q[0];
-        const Eigen::Vector3d s = m.fullPivLu().solve(Eigen::Vector3d(d[0], d[1], d[2]));
+        // (columns a, b and the unit normal: the determinant is |a x b| > 0)
+        const Mat3<double> m{{a, b, nn / ln}};
+        double det_m = 0;
+        const V3 s = inverse(m, det_m) * (q[2] - q[0]);
         const double size = std::max(length(a), length(b));
         const double g = std::fabs(s[2]) / size, twist = std::max(std::fabs(s[0] - 1.0), std::fabs(s[1] - 1.0));
         if (!convex || twist <= 8.0 * g) return detail::director_planes(q, c);

@@ -150,9 +150,10 @@ public:
             ctx_ = egl.CreateContext(display_, config, nullptr, attr);
             tried += (tried.empty() ? "" : ", ") + std::to_string(opt.major) + "." + std::to_string(minor);
         }
-        if (ctx_ == nullptr)
-            throw std::runtime_error(fail + "eglCreateContext failed for core " + tried + " (" +
-                                     d::hex(egl.GetError()) + ")");
+        if (ctx_ == nullptr) {
+            const std::string error = d::hex(egl.GetError());
+            throw std::runtime_error(fail + "eglCreateContext failed for core " + tried + " (" + error + ")" + highest_core_version(config));
+        }
         try {
             make_current();
             api_ = Api::load(&EglContext::get_proc_address);
@@ -167,6 +168,22 @@ public:
     }
 
     ~EglContext() { release(); }
+
+    /// "; the highest core version it creates is 4.3" (or that it creates none from 4.4 down to
+    /// 3.2): names the version found when 4.5 is refused.
+    std::string highest_core_version(void* config) const {
+        namespace d = egl_detail;
+        const d::Lib& egl = d::lib();
+        for (int v = 44; v >= 32; v = v % 10 == 0 ? v - 7 : v - 1) {  // 4.4 ... 4.0, 3.3 ... 3.2
+            const d::EGLint attr[] = {d::kContextMajorVersion, v / 10, d::kContextMinorVersion, v % 10,
+                                      d::kContextOpenglProfileMask, d::kContextOpenglCoreProfileBit, d::kNone};
+            if (d::EGLContext c = egl.CreateContext(display_, config, nullptr, attr)) {
+                egl.DestroyContext(display_, c);
+                return "; the highest core version it creates is " + std::to_string(v / 10) + "." + std::to_string(v % 10);
+            }
+        }
+        return "; it creates no core context from 4.4 down to 3.2";
+    }
     EglContext(const EglContext&) = delete;
     EglContext& operator=(const EglContext&) = delete;
     EglContext(EglContext&& o) noexcept
