@@ -112,8 +112,15 @@ void Aabb::extend(const Aabb& b) {
     extend(b.lo);
     extend(b.hi);
 }
-Vec3d Aabb::center() const { return (lo + hi) * 0.5; }
-double Aabb::radius() const { return empty() ? 0.0 : 0.5 * length(hi - lo); }
+// (halves first, and the diagonal scaled by its largest component: no overflow for boxes
+// near the double range)
+Vec3d Aabb::center() const { return lo * 0.5 + hi * 0.5; }
+double Aabb::radius() const {
+    if (empty()) return 0.0;
+    const Vec3d h = hi * 0.5 - lo * 0.5;
+    const double m = std::max({h[0], h[1], h[2]});
+    return m > 0.0 ? m * length(h / m) : 0.0;
+}
 
 Aabb bounds(const Sphere& s) {
     Aabb b;
@@ -204,7 +211,7 @@ Camera fit_camera(const Aabb& box, double fov_y_deg) {
     Camera cam;
     cam.fov_y_deg = fov_y_deg;
     if (box.empty()) return cam;
-    const double r = std::max(box.radius(), 1e-6);
+    const double r = box.radius() > 0.0 ? box.radius() : 1.0;  // (a single point: a unit view)
     const double half = 0.5 * fov_y_deg * std::numbers::pi / 180.0;
     const double dist = 1.05 * r / std::sin(half);
     cam.target = box.center();

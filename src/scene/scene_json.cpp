@@ -365,6 +365,10 @@ void load_object(Scene& scene, const JsonNode& entry, const std::filesystem::pat
     bool color_given = false;
     const Material material = load_material(entry, color_given);
     ObjectContext ctx{scene, entry, entry.at(kind->key), material, color_given, base_dir};
+    Location where = entry.at(kind->key).location();
+    where.field = entry.at(kind->key).pointer();
+    scene.origins.push_back({scene.spheres.size(), scene.ellipsoids.size(), scene.cylinders.size(), scene.cones.size(),
+                             scene.quadrics.size(), scene.quads.size(), std::move(where)});
     kind->load(ctx);
 }
 

@@ -1,7 +1,9 @@
 // src/scene/scene_render.cpp -- from a loaded scene to what the renderers draw
 #include "quadcast/scene/scene_render.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <limits>
 #include <stdexcept>
 
@@ -10,6 +12,7 @@
 #include "quadcast/camera.hpp"
 #include "quadcast/shapes.hpp"
 #include "quadcast/render/environment.hpp"
+#include "quadcast/scene/diagnostics.hpp"
 
 namespace quadcast::render {
 
@@ -23,52 +26,134 @@ shapes::Appearance look(const scene::Material& m) {
     return {g(m.color), static_cast<float>(m.specular), static_cast<float>(m.shininess)};
 }
 
+/// Q' = M^T Q M for the frame's x = scale x' + offset, divided by its largest coefficient (in
+/// double, before anything becomes float); a zero or non-finite result is left to the shapes API.
+glm::mat4 frame_quadric(const Mat4<double>& q, const FrameTransform& t) {
+    Mat4<double> m = zero_mat<double, 4, 4>();
+    for (int i = 0; i < 3; ++i) {
+        m[i][i] = t.scale;
+        m[3][i] = t.offset[i];
+    }
+    m[3][3] = 1.0;
+    const Mat4<double> r = transpose(m) * q * m;
+    double big = 0.0;
+    for (int j = 0; j < 4; ++j)
+        for (int i = 0; i < 4; ++i) big = std::max(big, std::fabs(r[j][i]));
+    glm::mat4 out;
+    for (int j = 0; j < 4; ++j)
+        for (int i = 0; i < 4; ++i) {
+            const double v = big > 0.0 && std::isfinite(big) ? 0.5 * (r[j][i] + r[i][j]) / big : r[j][i];
+            out[j][i] = static_cast<float>(v);
+        }
+    return out;
+}
+
+/// "file:line:column: pointer: " of the scene object that primitive i of a kind came from
+/// (`field` selects the kind in Scene::Origin); empty when the scene records none.
+std::string origin_of(const scene::Scene& s, std::size_t scene::Scene::Origin::*field, std::size_t i) {
+    const auto it = std::upper_bound(s.origins.begin(), s.origins.end(), i,
+                                     [field](std::size_t v, const scene::Scene::Origin& o) { return v < o.*field; });
+    if (it == s.origins.begin()) return "";
+    return scene::format_location(std::prev(it)->where);
+}
+
 }  // namespace
+
+FrameTransform frame_transform(const scene::Aabb& box) {
+    FrameTransform t;
+    if (box.empty()) return t;
+    double h = 0.0, far = 0.0;
+    for (int a = 0; a < 3; ++a) {
+        h = std::max(h, 0.5 * box.hi[a] - 0.5 * box.lo[a]);  // (halves first: no overflow)
+        far = std::max({far, std::fabs(box.lo[a]), std::fabs(box.hi[a])});
+    }
+    if (!(h > 0.0) || !std::isfinite(h)) return t;
+    if (h >= 0x1p-16 && h <= 0x1p16 && far <= 0x1p10 * h) return t;
+    int e = 0;
+    const double mant = std::frexp(h, &e);  // h = mant 2^e, mant in [0.5, 1)
+    t.scale = std::ldexp(1.0, mant < std::sqrt(0.5) ? e - 1 : e);
+    const V3 c = box.center();
+    t.offset = c;
+    return t;
+}
 
 Frame build_frame(const scene::Scene& s, int width, int height) {
     Frame fr;
-    // Every shape is built by the public API (quadcast/shapes.hpp), which validates it.
-    for (const auto& x : s.spheres) fr.primitives.push_back(shapes::sphere(g(x.center), static_cast<float>(x.radius), look(x.material)));
-    for (const auto& x : s.ellipsoids) {
-        glm::mat3 axes;
-        for (int j = 0; j < 3; ++j) axes[j] = g(x.axes[static_cast<std::size_t>(j)]);
-        fr.primitives.push_back(shapes::ellipsoid(g(x.center), axes, look(x.material)));
-    }
-    for (const auto& x : s.cylinders)
-        fr.primitives.push_back(shapes::cylinder(g(x.p0), g(x.p1), static_cast<float>(x.radius), x.caps ? shapes::Ends::both : shapes::Ends::none, look(x.material)));
-    for (const auto& x : s.cones) fr.primitives.push_back(shapes::cone(g(x.apex), g(x.base), static_cast<float>(x.radius), x.cap, look(x.material)));
-    for (const auto& x : s.quadrics) {
-        glm::mat4 q;
-        for (int j = 0; j < 4; ++j)
-            for (int i = 0; i < 4; ++i) q[j][i] = static_cast<float>(x.q[j][i]);
-        if (x.bound == scene::Quadric::Bound::sphere) {
-            fr.primitives.push_back(shapes::quadric(q, shapes::SphereBound{g(x.sphere.center), static_cast<float>(x.sphere.radius)}, look(x.material)));
-        } else {
-            shapes::TetrahedronBound t{};
-            for (int i = 0; i < 4; ++i) t.corners[static_cast<std::size_t>(i)] = g(x.tetrahedron.p[static_cast<std::size_t>(i)]);
-            fr.primitives.push_back(shapes::quadric(q, t, look(x.material)));
+    const FrameTransform t = frame_transform(s.bounds());
+    fr.transform = t;
+    const auto P = [&](const V3& w) { return g(t.point(w)); };
+    const auto L = [&](double l) { return static_cast<float>(t.length(l)); };
+    using O = scene::Scene::Origin;
+    // Every shape is built by the public API (quadcast/shapes.hpp), which validates it; its
+    // error is prefixed with where the object is in the scene.
+    const auto add = [&](std::size_t O::*field, std::size_t i, auto&& make) {
+        try {
+            fr.primitives.push_back(make());
+        } catch (const std::invalid_argument& e) {
+            throw std::invalid_argument(origin_of(s, field, i) + e.what());
         }
+    };
+    for (std::size_t i = 0; i < s.spheres.size(); ++i) {
+        const auto& x = s.spheres[i];
+        add(&O::spheres, i, [&] { return shapes::sphere(P(x.center), L(x.radius), look(x.material)); });
+    }
+    for (std::size_t i = 0; i < s.ellipsoids.size(); ++i) {
+        const auto& x = s.ellipsoids[i];
+        add(&O::ellipsoids, i, [&] {
+            glm::mat3 axes;
+            for (int j = 0; j < 3; ++j) axes[j] = g(x.axes[static_cast<std::size_t>(j)] / t.scale);
+            return shapes::ellipsoid(P(x.center), axes, look(x.material));
+        });
+    }
+    for (std::size_t i = 0; i < s.cylinders.size(); ++i) {
+        const auto& x = s.cylinders[i];
+        add(&O::cylinders, i, [&] {
+            return shapes::cylinder(P(x.p0), P(x.p1), L(x.radius), x.caps ? shapes::Ends::both : shapes::Ends::none, look(x.material));
+        });
+    }
+    for (std::size_t i = 0; i < s.cones.size(); ++i) {
+        const auto& x = s.cones[i];
+        add(&O::cones, i, [&] { return shapes::cone(P(x.apex), P(x.base), L(x.radius), x.cap, look(x.material)); });
+    }
+    for (std::size_t i = 0; i < s.quadrics.size(); ++i) {
+        const auto& x = s.quadrics[i];
+        add(&O::quadrics, i, [&] {
+            const glm::mat4 q = frame_quadric(x.q, t);
+            if (x.bound == scene::Quadric::Bound::sphere)
+                return shapes::quadric(q, shapes::SphereBound{P(x.sphere.center), L(x.sphere.radius)}, look(x.material));
+            shapes::TetrahedronBound tb{};
+            for (std::size_t k = 0; k < 4; ++k) tb.corners[k] = P(x.tetrahedron.p[k]);
+            return shapes::quadric(q, tb, look(x.material));
+        });
     }
     std::size_t skipped = 0;
-    for (const auto& x : s.quads) {
-        const auto& p = x.p;
+    for (std::size_t i = 0; i < s.quads.size(); ++i) {
+        const auto& p = s.quads[i].p;
         const QuadKind kind = classify_quad(p[0], p[1], p[2], p[3]);
         if (kind == QuadKind::segment || kind == QuadKind::point || kind == QuadKind::non_finite) {
             ++skipped;
             continue;
         }
-        fr.primitives.push_back(shapes::quad(g(p[0]), g(p[1]), g(p[2]), g(p[3]), look(x.material)));
+        add(&O::quads, i, [&] { return shapes::quad(P(p[0]), P(p[1]), P(p[2]), P(p[3]), look(s.quads[i].material)); });
     }
     if (skipped) fr.notes.push_back(std::to_string(skipped) + " degenerate quad(s) (segments, points, non-finite) are not drawn");
 
+    // The camera in the frame: eye and target move with the scene, near, far and the
+    // orthographic height scale with it, so the projection (and every window depth) is unchanged.
     const scene::Camera& c = s.camera;
     const double aspect = static_cast<double>(width) / static_cast<double>(height);
-    fr.camera = camera_from_matrices(look_at(c.eye, c.target, c.up), c.projection == scene::Projection::orthographic
-                                                                       ? orthographic(c.height, aspect, c.near, c.far)
-                                                                       : perspective(c.fov_y_deg, aspect, c.near, c.far));
+    fr.camera = camera_from_matrices(look_at(t.point(c.eye), t.point(c.target), c.up),
+                                     c.projection == scene::Projection::orthographic
+                                         ? orthographic(t.length(c.height), aspect, t.length(c.near), t.length(c.far))
+                                         : perspective(c.fov_y_deg, aspect, t.length(c.near), t.length(c.far)));
     if (!s.lights.empty()) {
         const scene::Light& l = s.lights.front();
-        fr.light.direction = cast<float>(l.kind == scene::Light::Kind::directional ? l.direction : s.bounds().center() - l.position);
+        // (a direction: normalised in double, so that a light 1e300 away stays finite in float)
+        V3 d = l.kind == scene::Light::Kind::directional ? l.direction : t.point(s.bounds().center()) - t.point(l.position);
+        double big = 0.0;
+        for (int a = 0; a < 3; ++a) big = std::max(big, std::fabs(d[a]));
+        if (big > 0.0 && std::isfinite(big)) d = d / big;
+        fr.light.direction = cast<float>(d);
         fr.light.color = cast<float>(l.color * l.intensity);
         if (s.lights.size() > 1) fr.notes.push_back("only the first light is used");
     } else {

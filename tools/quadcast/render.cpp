@@ -59,9 +59,9 @@ scene::Aabb volume_box(const scene::Volume& v) {
 }
 
 /// The scene's volumes, loaded and prepared for the GL isosurface renderer or, with `cpu`, the
-/// CPU reference renderer (which also keeps every active tetrahedron's coefficients). Long
-/// preparations report progress on stderr.
-std::vector<render::VolumeModel> prepare_volumes(const scene::Scene& sc, bool cpu) {
+/// CPU reference renderer (which also keeps every active tetrahedron's coefficients), placed in
+/// the frame `t` of the primitives and the camera. Long preparations report progress on stderr.
+std::vector<render::VolumeModel> prepare_volumes(const scene::Scene& sc, bool cpu, const render::FrameTransform& t) {
     std::vector<render::VolumeModel> out;
     for (const scene::Volume& v : sc.volumes) {
         volume::VolumeRequest req;
@@ -91,8 +91,10 @@ std::vector<render::VolumeModel> prepare_volumes(const scene::Scene& sc, bool cp
         look.color = glm::vec3(float(v.material.color[0]), float(v.material.color[1]), float(v.material.color[2]));
         look.specular = float(v.material.specular);
         look.shininess = float(v.material.shininess);
-        out.push_back(shapes::isosurface(d.grid, glm::dvec3(d.origin[0], d.origin[1], d.origin[2]), glm::dvec3(d.spacing[0], d.spacing[1], d.spacing[2]),
-                                         float(v.iso), scheme, look, cpu, 0, progress));
+        const Vec3<double> o = t.point(d.origin);
+        out.push_back(shapes::isosurface(d.grid, glm::dvec3(o[0], o[1], o[2]),
+                                         glm::dvec3(t.length(d.spacing[0]), t.length(d.spacing[1]), t.length(d.spacing[2])), float(v.iso), scheme,
+                                         look, cpu, 0, progress));
     }
     return out;
 }
@@ -150,7 +152,7 @@ int run_render(const RenderArgs& a) {
     std::vector<render::VolumeModel> volumes;
     try {
         const auto t0 = std::chrono::steady_clock::now();
-        volumes = prepare_volumes(sc, a.cpu);
+        volumes = prepare_volumes(sc, a.cpu, fr.transform);
         if (!volumes.empty())
             std::fprintf(stderr, "%s: %zu volume(s) prepared in %.1f ms, %zu active cubes\n", a.scene.c_str(), volumes.size(),
                          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count(), active_cubes(volumes));

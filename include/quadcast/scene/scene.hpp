@@ -218,6 +218,15 @@ struct Scene {
     /// Problems that were handled in a documented way while loading (print them).
     Warnings warnings;
 
+    /// Where the primitives came from: one entry per scene object, with the sizes of the
+    /// primitive vectors before it was loaded, so that primitive i of a kind belongs to the last
+    /// entry whose start for that kind is <= i. Empty for scenes built in code.
+    struct Origin {
+        std::size_t spheres = 0, ellipsoids = 0, cylinders = 0, cones = 0, quadrics = 0, quads = 0;
+        Location where;
+    };
+    std::vector<Origin> origins;
+
     /// Box around every primitive and volume; empty when there are none.
     Aabb bounds() const;
     std::size_t primitive_count() const;

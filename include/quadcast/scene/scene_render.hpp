@@ -9,8 +9,26 @@
 
 namespace quadcast::render {
 
+/// The similarity a scene is drawn in: frame = (world - offset) / scale, with scale a power of
+/// two (exact in binary). The picture does not depend on it (the camera, near and far are
+/// transformed alike); it brings scenes of any size into the range where float holds them.
+struct FrameTransform {
+    Vec3<double> offset{{0.0, 0.0, 0.0}};
+    double scale = 1.0;
+    Vec3<double> point(const Vec3<double>& w) const { return (w - offset) / scale; }
+    double length(double l) const { return l / scale; }
+};
+
+/// The frame of a scene with bounds `box` (README "Numeric range"): the identity when the box's
+/// half extent h (largest over the axes) is in [2^-16, 2^16] and every coordinate of the box within
+/// 2^10 h (float then places every point to 2^-14 h or better), which holds the scenes of everyday
+/// units; otherwise offset = the box centre and scale = the power of two nearest h, so that the
+/// scene spans about [-1, 1]. An empty box: the identity.
+FrameTransform frame_transform(const scene::Aabb& box);
+
 /// Everything a renderer needs for one scene.
 struct Frame {
+    FrameTransform transform;  ///< world -> frame; the primitives and the camera are in the frame
     std::vector<Primitive> primitives;
     Camera camera;
     Light light;
@@ -19,7 +37,10 @@ struct Frame {
 };
 
 /// Converts a scene with the public shapes API (quadcast/shapes.hpp) and the camera of
-/// quadcast/camera.hpp for width x height. Throws std::invalid_argument for a shape the API rejects.
+/// quadcast/camera.hpp for width x height, in the frame of `frame_transform(s.bounds())`. General
+/// quadrics are normalised in double (largest coefficient 1) before they become float, so their
+/// scale never matters. Throws std::invalid_argument for a shape the API rejects, prefixed by the
+/// scene location of the object it came from (`Scene::origins`) when there is one.
 Frame build_frame(const scene::Scene& s, int width, int height);
 
 }  // namespace quadcast::render
