@@ -7,7 +7,7 @@ DEB_PACKAGES := cmake g++ clang make pkg-config libeigen3-dev libglm-dev glslang
   libgmp-dev libbenchmark-dev libpng-dev nlohmann-json3-dev pymol-data zlib1g-dev libclang-rt-14-dev
 DEMO_PACKAGES :=
 
-.PHONY: all deps demo-deps configure build test demo regenerate clean data install fuzz fuzz-build test-sanitize
+.PHONY: all deps demo-deps configure build test demo regenerate clean data install fuzz fuzz-build test-sanitize test-clang
 
 all: build
 
@@ -75,6 +75,15 @@ test-sanitize: deps
 	cmake --build $(SANITIZE_BUILD) -j $(JOBS) --target $(SANITIZE_TARGETS)
 	cd $(SANITIZE_BUILD) && ASAN_OPTIONS=detect_leaks=0 UBSAN_OPTIONS=print_stacktrace=1 \
 	  ctest --output-on-failure -j $(JOBS) -R '$(SANITIZE_TESTS)'
+
+# The whole project built with Debian's Clang in its own build directory and every test run
+# (the portability check beside the GCC build of `make test`; not part of it, since it doubles
+# the build time).
+CLANG_BUILD ?= build-clang
+test-clang: deps
+	@[ -f $(CLANG_BUILD)/CMakeCache.txt ] || CC=clang CXX=clang++ cmake -S . -B $(CLANG_BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo
+	cmake --build $(CLANG_BUILD) -j $(JOBS)
+	cd $(CLANG_BUILD) && ctest --output-on-failure -j $(JOBS)
 
 DEMO_SCENES := 1tii_balls_and_sticks 1tii_space_filling il2_balls_and_sticks il2_space_filling quads_cube primitives marschner_lobb_qss reflective \
   skull_s31 liver_qss bunny_sdf_s31

@@ -12,6 +12,7 @@
 #include <sstream>
 #include <tuple>
 
+#include "quadcast/image/image_io.hpp"
 #include "quadcast/scene/off.hpp"
 #include "quadcast/scene/pdb.hpp"
 
@@ -386,13 +387,20 @@ void load_environment(const JsonNode& n, Options& o, const std::filesystem::path
         p = p.lexically_normal();
         std::error_code ec;
         if (!std::filesystem::is_regular_file(p, ec)) f->fail("cannot open '" + p.string() + "': no such file");
-        // The image is decoded at render time; check here that it is a PNG at all, so the error
-        // has the scene location.
+        // Decoded here, so that a file that is no PNG, or a corrupt one, is an error at this
+        // location (and not at render time).
         std::ifstream in(p, std::ios::binary);
         char sig[8] = {};
         in.read(sig, sizeof sig);
         if (!in || std::memcmp(sig, "\x89PNG\r\n\x1a\n", 8) != 0)
             f->fail("'" + p.string() + "' is not a PNG file (no PNG signature)");
+        try {
+            o.environment_image = std::make_shared<const render::Image>(render::read_png(p));
+        } catch (const std::bad_alloc&) {
+            throw;
+        } catch (const std::exception& e) {
+            f->fail(std::string("cannot decode the environment image: ") + e.what());
+        }
         o.environment = Options::Environment::file;
         o.environment_file = p;
     } else {

@@ -173,7 +173,7 @@ Frame build_frame(const scene::Scene& s, int width, int height) {
     if (s.options.pcf_step) fr.options.pcf_step = *s.options.pcf_step;
     if (s.options.shadow_bias) fr.options.shadow_bias = static_cast<float>(*s.options.shadow_bias);
     if (s.options.environment == scene::Options::Environment::file) {
-        const Image img = read_png(s.options.environment_file);
+        const Image img = s.options.environment_image ? *s.options.environment_image : read_png(s.options.environment_file);
         fr.options.environment = std::make_shared<const EnvironmentMap>(
             environment_from_rgba8(img.width, img.height, img.rgba.data(), s.options.environment_file.string()));
     } else if (s.options.environment == scene::Options::Environment::procedural) {

@@ -7,6 +7,7 @@
 #include <random>
 
 #include "helpers.hpp"
+#include "quadcast/image/image_io.hpp"
 #include "quadcast/scene/scene_json.hpp"
 
 using namespace quadcast::scene;
@@ -424,10 +425,22 @@ TEST_CASE("randomly corrupted scene text never crashes: it loads or throws Parse
 
 TEST_CASE("options.environment: a file relative to the scene or the procedural sky, a reflectivity in [0, 1]") {
     TempDir dir;
-    dir.write("sky.png", std::string("\x89PNG\r\n\x1a\n", 8) + "the rest is not read by the loader");
+    quadcast::render::Image sky;
+    sky.width = 4;
+    sky.height = 2;
+    sky.rgba.assign(4 * 2 * 4, 200);
+    quadcast::render::write_png(dir.path / "sky.png", sky);
     Scene s = parse(R"({"objects": [], "options": {"environment": {"file": "sky.png", "reflectivity": 0.5}}})", dir.path);
     CHECK(s.options.environment == Options::Environment::file);
     CHECK(s.options.environment_file == (dir.path / "sky.png").lexically_normal());
+    REQUIRE(s.options.environment_image != nullptr);  // decoded when loaded
+    CHECK(s.options.environment_image->width == 4);
+    CHECK(s.options.environment_image->rgba[0] == 200);
+    // A PNG signature followed by garbage: an error at the scene location, not at render time.
+    dir.write("broken.png", std::string("\x89PNG\r\n\x1a\n", 8) + "not a PNG stream");
+    const ParseError broken = error_of(R"({"objects": [], "options": {"environment": {"file": "broken.png"}}})", dir.path);
+    CHECK(broken.field() == "/options/environment/file");
+    CHECK(broken.message().find("cannot decode the environment image") != std::string::npos);
     CHECK(s.options.reflectivity == 0.5);
     s = parse(R"({"objects": [], "options": {"environment": {"procedural": {"zenith": [0, 0, 1]}}}})");
     CHECK(s.options.environment == Options::Environment::procedural);

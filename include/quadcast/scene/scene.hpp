@@ -7,12 +7,14 @@
 
 #include <array>
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "quadcast/scene/diagnostics.hpp"
 #include "quadcast/linalg.hpp"
+#include "quadcast/render/types.hpp"
 
 namespace quadcast::scene {
 
@@ -152,6 +154,9 @@ struct Options {
     enum class Environment { none, file, procedural };
     Environment environment = Environment::none;
     std::filesystem::path environment_file;
+    /// The environment image, decoded when the scene was loaded (so that a corrupt PNG is an error
+    /// at its scene location, and the file is read once).
+    std::shared_ptr<const render::Image> environment_image;
     std::optional<Vec3d> sky_zenith, sky_horizon, sky_ground;
     double reflectivity = 0.3;
 };
