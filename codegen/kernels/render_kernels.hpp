@@ -110,40 +110,103 @@ struct ClipPositionKernel {
     }
 };
 
-/// Per vertex of the bounding quad: the world-space ray through the corner and the local ray
-/// terms o, v, g, a (`local_ray`), plus per-quadric back-face culling against the bounding
-/// sphere (Stoll et al. 2006, sec. 4.4.4; perspective only: an orthographic camera has no single eye).
-template <bool Ortho>
-struct PrimitiveVertexKernel {
-    static constexpr const char* name = Ortho ? "primitive_vertex_ortho" : "primitive_vertex_perspective";
-    static constexpr const char* source = "quadcast::view_point_ray, quadcast::local_ray, quadcast::cull_primitive, quadcast::cull_primitive_with_caps (quadcast/raycast.hpp)";
-    static constexpr const char* summary = "incremental ray casting: the ray terms at a corner of the bounding quad";
+/// A random camera: a rigid view (world -> view) and a perspective or orthographic projection,
+/// combined into view_projection; the eye (perspective) or a point of the camera plane.
+inline void put_view_projection(std::mt19937& rng, std::span<float> in, std::size_t& p) {
+    Mat4<float> v = identity<float, 4>();
+    const Mat3<float> r = random_rotation(rng);
+    for (int j = 0; j < 3; ++j) v[j] = vec4(r[j], 0.0f);
+    v[3] = vec4(random_point(rng, 60.0f), 1.0f);
+    Mat4<float> m = zero_mat<float, 4, 4>();
+    const float n = uniform(rng, 0.01f, 1.0f), f = n * uniform(rng, 10.0f, 1e4f);
+    m[0][0] = uniform(rng, 0.5f, 3.0f);
+    m[1][1] = uniform(rng, 0.5f, 3.0f);
+    m[2][0] = uniform(rng, -0.1f, 0.1f);
+    m[2][1] = uniform(rng, -0.1f, 0.1f);
+    m[2][2] = -(f + n) / (f - n);
+    if (uniform(rng, 0.0f, 1.0f) < 0.5f) {
+        m[2][3] = -1.0f;
+        m[3][2] = -2.0f * f * n / (f - n);
+    } else {
+        for (int i = 0; i < 2; ++i) m[i][i] *= 0.02f;
+        m[3][2] = -(f + n) / (f - n);
+        m[3][3] = 1.0f;
+    }
+    put(in, p, m * v);
+}
+
+/// Per vertex of the bounding geometry: the primitive's tight NDC rectangle (`primitive_rect`:
+/// the bounding sphere, the ellipsoid, or the hull of the slab sections), and whether it is tight
+/// and visible.
+template <RectBound Bound>
+struct PrimitiveRectKernel {
+    static constexpr const char* name = Bound == RectBound::sphere ? "primitive_rect_sphere" : Bound == RectBound::ellipsoid ? "primitive_rect_ellipsoid" : "primitive_rect_slab";
+    static constexpr const char* source = "quadcast::primitive_rect, quadcast::dual_rect (quadcast/bounds.hpp)";
+    static constexpr const char* summary = "tight NDC rectangle of a primitive (Sigg et al. 2006, eq. 5, dual form)";
+    template <class IO> static void run(IO& io) {
+        using T = typename IO::T;
+        const Mat4<T> vp = io.template mat<4>("view_projection");
+        const ClippedQuadric<T> p = primitive_inputs(io);
+        const Vec2<T> viewport = io.template vec<2>("viewport");
+        const ScreenRect<T> r = primitive_rect<Bound>(vp, p.q, p.center, p.radius, p.axis, p.half_length, viewport);
+        io.out("lo", r.lo);
+        io.out("hi", r.hi);
+        io.out("tight", r.tight);
+        io.out("visible", r.visible);
+    }
+    static void generate(std::mt19937& rng, std::span<float> in) {
+        std::size_t p = 0;
+        put_view_projection(rng, in, p);
+        put_primitive(rng, in, p);
+        put(in, p, vec2(1024.0f, 768.0f));
+    }
+};
+
+/// Per primitive (perspective cameras): back-face culling against the bounding sphere (Stoll et
+/// al. 2006, sec. 4.4.4; `cull_primitive`, and `cull_primitive_with_caps` for capped slabs) for
+/// the eye's local position o = eye - center (`local_ray`'s o).
+struct PrimitiveCullKernel {
+    static constexpr const char* name = "primitive_cull";
+    static constexpr const char* source = "quadcast::local_ray, quadcast::cull_primitive, quadcast::cull_primitive_with_caps (quadcast/raycast.hpp)";
+    static constexpr const char* summary = "per-quadric back-face culling against the bounding sphere";
     template <class IO> static void run(IO& io) {
         using T = typename IO::T;
         const ClippedQuadric<T> p = primitive_inputs(io);
-        const Vec3<T> corner = io.template vec<3>("corner_view");
-        const Mat3<T> rot_inv = io.template mat<3>("view_rot_inv");
         const Vec3<T> eye = io.template vec<3>("eye");
-        const WorldRay<T> ray = view_point_ray<Ortho>(rot_inv, eye, corner);
-        const LocalRay<T> r = local_ray(p, ray.origin, ray.dir);
-        io.out("o", r.o);
-        io.out("v", r.v);
-        io.out("g", r.g);
-        io.out("a", r.a);
-        if constexpr (Ortho) {
-            io.out("culled", mask_t<T>(false));
-            io.out("culled_caps", mask_t<T>(false));
-        } else {
-            io.out("culled", cull_primitive(p, r.o));
-            io.out("culled_caps", cull_primitive_with_caps(p, r.o));
-        }
+        const LocalRay<T> r = local_ray(p, eye, vec3(T(0), T(0), T(-1)));
+        io.out("culled", cull_primitive(p, r.o));
+        io.out("culled_caps", cull_primitive_with_caps(p, r.o));
     }
     static void generate(std::mt19937& rng, std::span<float> in) {
         std::size_t p = 0;
         put_primitive(rng, in, p);
-        put(in, p, random_point(rng, 10.0f));
-        put(in, p, transpose(random_rotation(rng)));  // view -> world
         put(in, p, random_point(rng, 60.0f));
+    }
+};
+
+/// Per fragment: the world-space ray through the pixel centre (`window_ray`), from the frame's
+/// affine terms; the same ray whatever geometry the primitive is drawn over.
+template <bool Ortho>
+struct FragmentRayKernel {
+    static constexpr const char* name = Ortho ? "fragment_ray_ortho" : "fragment_ray_perspective";
+    static constexpr const char* source = "quadcast::window_ray (quadcast/raycast.hpp)";
+    static constexpr const char* summary = "the world ray of a pixel centre, affine in the window position";
+    template <class IO> static void run(IO& io) {
+        using T = typename IO::T;
+        const Vec3<T> base = io.template vec<3>("base"), dx = io.template vec<3>("dx"), dy = io.template vec<3>("dy");
+        const Vec3<T> fixed = io.template vec<3>("fixed");
+        const Vec2<T> frag = io.template vec<2>("frag");
+        const WorldRay<T> r = window_ray<Ortho>(base, dx, dy, fixed, frag);
+        io.out("origin", r.origin);
+        io.out("dir", r.dir);
+    }
+    static void generate(std::mt19937& rng, std::span<float> in) {
+        std::size_t p = 0;
+        put(in, p, random_point(rng, 2.0f));
+        put(in, p, random_point(rng, 2.0f) * 0.001f);
+        put(in, p, random_point(rng, 2.0f) * 0.001f);
+        put(in, p, random_point(rng, 60.0f));
+        put(in, p, vec2(std::floor(uniform(rng, 0.0f, 1024.0f)) + 0.5f, std::floor(uniform(rng, 0.0f, 768.0f)) + 0.5f));
     }
 };
 
@@ -155,20 +218,22 @@ void output_fragment(IO& io, const FragmentHit<typename IO::T>& f) {
     io.out("normal", f.normal);
 }
 
-/// Per fragment: cast the interpolated ray (`cast`), its window depth (`window_depth`) and the
-/// normal. A hit must lie between the near and far planes (depth in [0, 1]).
+/// Per fragment: the local ray of the pixel's world ray (`local_ray`), its cast (`cast`), window
+/// depth (`window_depth`) and normal. A hit must lie between the near and far planes (depth in [0, 1]).
+/// The ray comes from `fragment_ray_*` (or `pixel_ray` in the brute-force benchmark stage).
 template <CastOptions Opt>
 struct FragmentCastKernel {
     static constexpr const char* name = render::fragment_kernel_name(Opt);
-    static constexpr const char* source = "quadcast::cast_and_depth (quadcast/raycast.hpp)";
-    static constexpr const char* summary = "incremental ray casting: a fragment's hit, depth and normal (Stoll et al. 2006, sec. 5)";
+    static constexpr const char* source = "quadcast::local_ray, quadcast::cast_and_depth (quadcast/raycast.hpp)";
+    static constexpr const char* summary = "ray casting: a fragment's local ray, hit, depth and normal (Stoll et al. 2006, sec. 4-5)";
     template <class IO> static void run(IO& io) {
         using T = typename IO::T;
         const ClippedQuadric<T> p = primitive_inputs<Opt.planes, Opt.slab>(io);
-        const LocalRay<T> r{io.template vec<3>("o"), io.template vec<3>("v"), io.template vec<3>("g"), io.template vec<3>("a")};
+        const Vec3<T> origin = io.template vec<3>("origin");
+        const Vec3<T> dir = io.template vec<3>("dir");
         const Vec3<T> vz_row = io.template vec<3>("vz_row");
         const Vec4<T> pz = io.template vec<4>("pz");
-        output_fragment(io, cast_and_depth<Opt>(p, r, vz_row, pz));
+        output_fragment(io, cast_and_depth<Opt>(p, local_ray(p, origin, dir), vz_row, pz));
     }
     static void generate(std::mt19937& rng, std::span<float> in) {
         std::size_t p = 0;
@@ -176,46 +241,17 @@ struct FragmentCastKernel {
         if constexpr (Opt.slab) put_caps(rng, in, p);
         if constexpr (Opt.planes)
             for (int i = 0; i < 4; ++i) put(in, p, vec4(random_direction(rng), uniform(rng, 0.0f, 2.0f)));
-        const Vec3<float> o = random_direction(rng) * uniform(rng, 1.0f, 100.0f);
-        const Vec3<float> v = normalize(random_point(rng, 1.0f) - o);
+        const Vec3<float> o = random_point(rng, 50.0f) + random_direction(rng) * uniform(rng, 1.0f, 100.0f);
         put(in, p, o);
-        put(in, p, v);
-        put(in, p, random_point(rng, 10.0f));  // g, a: any values exercise the formulas
-        put(in, p, random_point(rng, 1.0f));
+        put(in, p, normalize(random_point(rng, 50.0f) - o));
         put(in, p, random_direction(rng));
         put(in, p, vec4(-1.002f, -0.2002f, -1.0f, 0.0f));
     }
 };
 
-/// Per vertex of a sphere's bounding quad (the sphere-specialised stage): the local ray terms o
-/// and v only (`local_ray` without g and a). No per-primitive culling: from outside a sphere
-/// shows its front, from inside (or on it) the fragment stage finds no front root.
-template <bool Ortho>
-struct SphereVertexKernel {
-    static constexpr const char* name = Ortho ? "sphere_vertex_ortho" : "sphere_vertex_perspective";
-    static constexpr const char* source = "quadcast::view_point_ray, quadcast::local_ray (quadcast/raycast.hpp), o and v";
-    static constexpr const char* summary = "incremental ray casting of a sphere: the ray terms at a corner of the bounding quad";
-    template <class IO> static void run(IO& io) {
-        using T = typename IO::T;
-        const Vec3<T> center = io.template vec<3>("center");
-        const Vec3<T> corner = io.template vec<3>("corner_view");
-        const Mat3<T> rot_inv = io.template mat<3>("view_rot_inv");
-        const Vec3<T> eye = io.template vec<3>("eye");
-        const WorldRay<T> ray = view_point_ray<Ortho>(rot_inv, eye, corner);
-        io.out("o", ray.origin - center);
-        io.out("v", ray.dir);
-    }
-    static void generate(std::mt19937& rng, std::span<float> in) {
-        std::size_t p = 0;
-        put(in, p, random_point(rng, 50.0f));
-        put(in, p, random_point(rng, 10.0f));
-        put(in, p, transpose(random_rotation(rng)));  // view -> world
-        put(in, p, random_point(rng, 60.0f));
-    }
-};
-
 /// Per fragment of a sphere (the sphere-specialised stage): `cast_and_depth` with
-/// CastOptions::sphere, the closed form of `ray_quadratic_sphere`; reads only the radius and o, v.
+/// CastOptions::sphere, the closed form of `ray_quadratic_sphere`, of the local ray o = origin -
+/// center, v = dir (`local_ray`'s o and v); reads only the radius and the centre.
 template <bool Cull>
 struct FragmentSphereKernel {
     static constexpr const char* name = render::fragment_kernel_name(render::FragmentShape::sphere, Cull);
@@ -225,7 +261,9 @@ struct FragmentSphereKernel {
         using T = typename IO::T;
         ClippedQuadric<T> p{};
         p.radius = io.scalar("radius");
-        const LocalRay<T> r{io.template vec<3>("o"), io.template vec<3>("v"), Vec3<T>{}, Vec3<T>{}};
+        p.center = io.template vec<3>("center");
+        const Vec3<T> origin = io.template vec<3>("origin");
+        const LocalRay<T> r{origin - p.center, io.template vec<3>("dir"), Vec3<T>{}, Vec3<T>{}};
         const Vec3<T> vz_row = io.template vec<3>("vz_row");
         const Vec4<T> pz = io.template vec<4>("pz");
         output_fragment(io, cast_and_depth<CastOptions{Cull, false, false, false, true}>(p, r, vz_row, pz));
@@ -238,7 +276,9 @@ struct FragmentSphereKernel {
         const float k = uniform(rng, 0.0f, 1.0f);
         const float d = k < 0.1f ? radius * uniform(rng, 0.0f, 1.0f) : k < 0.2f ? radius * uniform(rng, 0.999f, 1.001f) : uniform(rng, radius, 1000.0f);
         const Vec3<float> o = random_direction(rng) * d;
-        put(in, p, o);
+        const Vec3<float> center = random_point(rng, 50.0f);
+        put(in, p, center);
+        put(in, p, center + o);
         put(in, p, (random_point(rng, 1.2f * radius) - o) * uniform(rng, 0.01f, 10.0f));
         put(in, p, random_direction(rng));
         put(in, p, vec4(-1.002f, -0.2002f, -1.0f, 0.0f));
@@ -464,36 +504,6 @@ struct PixelRayKernel {
         put(in, p, random_point(rng, 10.0f));
         put(in, p, vec2(std::floor(uniform(rng, 0.0f, 1024.0f)) + 0.5f, std::floor(uniform(rng, 0.0f, 768.0f)) + 0.5f));
         put(in, p, vec2(1024.0f, 768.0f));
-    }
-};
-
-/// Per fragment, brute force: the local ray of the pixel's world ray (`local_ray`), then the same
-/// cast, depth and normal as `FragmentCastKernel`.
-template <CastOptions Opt>
-struct FragmentBruteKernel {
-    static constexpr const char* name = render::fragment_kernel_name(Opt, true);
-    static constexpr const char* source = "quadcast::local_ray, quadcast::cast_and_depth (quadcast/raycast.hpp)";
-    static constexpr const char* summary = "brute-force ray casting: a fragment's local ray, hit, depth and normal";
-    template <class IO> static void run(IO& io) {
-        using T = typename IO::T;
-        const ClippedQuadric<T> p = primitive_inputs<Opt.planes, Opt.slab>(io);
-        const Vec3<T> origin = io.template vec<3>("origin");
-        const Vec3<T> dir = io.template vec<3>("dir");
-        const Vec3<T> vz_row = io.template vec<3>("vz_row");
-        const Vec4<T> pz = io.template vec<4>("pz");
-        output_fragment(io, cast_and_depth<Opt>(p, local_ray(p, origin, dir), vz_row, pz));
-    }
-    static void generate(std::mt19937& rng, std::span<float> in) {
-        std::size_t p = 0;
-        put_primitive(rng, in, p);
-        if constexpr (Opt.slab) put_caps(rng, in, p);
-        if constexpr (Opt.planes)
-            for (int i = 0; i < 4; ++i) put(in, p, vec4(random_direction(rng), uniform(rng, 0.0f, 2.0f)));
-        const Vec3<float> o = random_point(rng, 50.0f) + random_direction(rng) * uniform(rng, 1.0f, 100.0f);
-        put(in, p, o);
-        put(in, p, normalize(random_point(rng, 50.0f) - o));
-        put(in, p, random_direction(rng));
-        put(in, p, vec4(-1.002f, -0.2002f, -1.0f, 0.0f));
     }
 };
 

@@ -32,10 +32,10 @@ struct ClippedQuadric {
 };
 
 /// What a ray needs at a fragment, in local coordinates: origin o, direction v and the terms
-/// g = A o + b and a = A v. All four are affine in the ray's origin and direction, so the
-/// per-primitive stage computes them at the corners of the bounding geometry and the
-/// rasteriser's interpolation gives them at every fragment (incremental ray casting, Stoll et
-/// al. 2006, sec. 5).
+/// g = A o + b and a = A v (Stoll et al. 2006, sec. 5). All four are affine in the ray's origin
+/// and direction; the renderers build them per fragment from the pixel's ray (`window_ray`,
+/// `local_ray`) rather than let the rasteriser interpolate them over the bounding geometry, whose
+/// rounding would then depend on that geometry.
 template <class T>
 struct LocalRay {
     Vec3<T> o, v, g, a;
@@ -57,6 +57,21 @@ template <bool Ortho, class T>
 WorldRay<T> view_point_ray(const Mat3<T>& view_rot_inv, const Vec3<T>& eye, const Vec3<T>& p) {
     if constexpr (Ortho) return {eye + (view_rot_inv[0] * p[0] + view_rot_inv[1] * p[1]), -view_rot_inv[2]};
     else return {eye, view_rot_inv * p};
+}
+
+/// The world-space ray through the window position `frag` (a pixel centre: gl_FragCoord.xy in
+/// the fragment stage, (x + 0.5, y + 0.5) in the CPU reference). The camera's rays are affine in
+/// the window position: with the frame's terms (base, dx, dy) (`render::window_ray_terms`),
+/// perspective, origin = `fixed` (the eye) and dir = base + x dx + y dy (R^T of the view-space
+/// near-plane point); orthographic, origin = base + x dx + y dy (in the camera plane through the
+/// eye) and dir = `fixed` (the viewing direction). The ray depends on the pixel only, not on the
+/// bounding geometry a primitive is drawn over, so every bound gives the same image.
+/// Numerics: (base + dx * x) + dy * y per component.
+template <bool Ortho, class T>
+WorldRay<T> window_ray(const Vec3<T>& base, const Vec3<T>& dx, const Vec3<T>& dy, const Vec3<T>& fixed, const Vec2<T>& frag) {
+    const Vec3<T> affine = (base + dx * frag[0]) + dy * frag[1];
+    if constexpr (Ortho) return {affine, fixed};
+    else return {fixed, affine};
 }
 
 /// The local ray for a world-space ray (origin, dir).

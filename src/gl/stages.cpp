@@ -44,22 +44,53 @@ const char* environment_uniforms =
     "layout(binding = 4) uniform sampler2D qc_environment;  // latitude-longitude RGBA32F, row 0 = straight up\n"
     "uniform float qc_reflectivity;\n";
 
+/// The bounding geometry of one primitive, shared by both vertex stages: with `qc_bound` 1 or 2
+/// (quadcast::RectBound of the variant; general variants only) the NDC rectangle
+/// `primitive_rect_*` when it is tight (corners (lo, lo), (hi, lo), (hi, hi), (lo, hi), at w = 1);
+/// otherwise, and with `qc_bound` 0 (sphere-bound variants, or tight bounds off), the quad around
+/// the bounding sphere (`primitive_bound_*`, the near-plane rectangle when the eye is inside the
+/// sphere).
+std::string bound_glsl(const std::string& proj, bool rects) {
+    std::ostringstream m;
+    m << "    vec2 lo, hi;\n    bool tight = false, visible = true;\n";
+    if (rects)
+        m << "    if (qc_bound == 1)\n"
+             "        qc_primitive_rect_ellipsoid(qc_view_projection, q, qc_record_center(p), qc_record_radius(p), qc_record_axis(p), qc_record_half_length(p), qc_viewport, lo, hi, tight, visible);\n"
+             "    else if (qc_bound == 2)\n"
+             "        qc_primitive_rect_slab(qc_view_projection, q, qc_record_center(p), qc_record_radius(p), qc_record_axis(p), qc_record_half_length(p), qc_viewport, lo, hi, tight, visible);\n";
+    m << "    vec4 clip;\n"
+         "    if (tight) {\n"
+         "        clip = vec4(k == 1 || k == 2 ? hi.x : lo.x, k >= 2 ? hi.y : lo.y, 0.0, 1.0);\n"
+         "    } else {\n"
+         "        vec3 c0, c1, c2, c3;\n        bool valid;\n"
+         "        qc_primitive_bound_" << proj << "(qc_view, qc_record_center(p), qc_record_radius(p), c0, c1, c2, c3, valid);\n"
+         "        vec3 corners[4] = vec3[4](c0, c1, c2, c3);\n"
+         "        qc_clip_position(qc_projection, valid ? corners[k] : qc_near_corners[k], clip);\n"
+         "    }\n";
+    return m.str();
+}
+
+const char* bound_uniforms =
+    "uniform mat4 qc_view;\nuniform mat4 qc_projection;\nuniform mat4 qc_view_projection;\n"
+    "uniform vec3 qc_near_corners[4];  // view space, used when the eye is inside a bounding sphere\n"
+    "uniform int qc_bound;             // quadcast::RectBound of the variant; 0: the bounding-sphere quad\n"
+    "uniform vec2 qc_viewport;\nuniform uint qc_first;\n";
+
+/// The vertex stage of the general variants: the bounding geometry (`bound_glsl`) and per-quadric
+/// culling (`primitive_cull`, perspective cameras).
 Stage vertex_shader(bool ortho) {
     Stage s;
     std::ostringstream fns;
     const std::string proj = ortho ? "ortho" : "perspective";
+    add_kernel(s, fns, "primitive_rect_ellipsoid");
+    add_kernel(s, fns, "primitive_rect_slab");
     add_kernel(s, fns, "primitive_bound_" + proj);
-    add_kernel(s, fns, "primitive_vertex_" + proj);
     add_kernel(s, fns, "clip_position");
-    const char* q = ortho ? "" : "flat ";  // constant over the quad for one camera model
-    const char* vq = ortho ? "flat " : "";
+    if (!ortho) add_kernel(s, fns, "primitive_cull");
     std::ostringstream m;
     m << record_glsl;
-    m << "uniform mat4 qc_view;\nuniform mat4 qc_projection;\nuniform mat3 qc_view_rot_inv;\nuniform vec3 qc_eye;\n"
-         "uniform vec3 qc_near_corners[4];  // view space, used when the eye is inside a bounding sphere\n"
-         "uniform bool qc_cull;\nuniform bool qc_caps;   // the variant closes a slab with caps\nuniform uint qc_first;\n\n"
-         "flat out uint qc_prim;\n"
-      << q << "out vec3 qc_o;\n" << vq << "out vec3 qc_v;\n" << q << "out vec3 qc_g;\n" << vq << "out vec3 qc_a;\n\n";
+    m << bound_uniforms << "uniform vec3 qc_eye;\nuniform bool qc_cull;\nuniform bool qc_caps;   // the variant closes a slab with caps\n\n"
+         "flat out uint qc_prim;\n\n";
     m << fns.str();
     m << "// Indexed draw: vertex 4 i + k is corner k of primitive qc_first + i (two triangles share two).\n"
          "void main()\n{\n"
@@ -67,56 +98,43 @@ Stage vertex_shader(bool ortho) {
          "    int k = gl_VertexID % 4;\n"
          "    qc_Primitive p = qc_prims[prim];\n"
          "    mat4 q = qc_record_quadric(p);\n"
-         "    vec3 c0, c1, c2, c3;\n    bool valid;\n"
-         "    qc_primitive_bound_" << proj << "(qc_view, qc_record_center(p), qc_record_radius(p), c0, c1, c2, c3, valid);\n"
-         "    vec3 corners[4] = vec3[4](c0, c1, c2, c3);\n"
-         "    vec3 corner = valid ? corners[k] : qc_near_corners[k];\n"
-         "    bool culled, culled_caps;\n"
-         "    qc_primitive_vertex_" << proj << "(q, qc_record_center(p), qc_record_radius(p), qc_record_axis(p), qc_record_half_length(p), corner, qc_view_rot_inv, qc_eye,\n"
-         "        qc_o, qc_v, qc_g, qc_a, culled, culled_caps);\n"
-         "    qc_prim = prim;\n"
-         "    vec4 clip;\n"
-         "    qc_clip_position(qc_projection, corner, clip);\n"
+      << bound_glsl(proj, true)
+      << "    bool culled = false, culled_caps = false;\n";
+    if (!ortho)
+        m << "    if (qc_cull)\n"
+             "        qc_primitive_cull(q, qc_record_center(p), qc_record_radius(p), qc_record_axis(p), qc_record_half_length(p), qc_eye, culled, culled_caps);\n";
+    m << "    qc_prim = prim;\n"
          "    gl_Position = (qc_cull && (qc_caps ? culled_caps : culled)) ? vec4(2.0, 2.0, 2.0, 1.0) : clip;\n"
          "}\n";
     s.text = m.str();
     return s;
 }
 
-/// The vertex stage of the sphere-specialised variant: the bounding quad as for every primitive,
-/// the ray terms o and v only (`sphere_vertex_*`), no per-primitive culling, and the radius and
+/// The vertex stage of the sphere-specialised variant: the bounding-sphere quad (the sphere is
+/// its own bound), no per-primitive culling, and the radius, centre and
 /// colour passed on as flat varyings (its fragment stage reads no record).
 Stage sphere_vertex_shader(bool ortho) {
     Stage s;
     std::ostringstream fns;
     const std::string proj = ortho ? "ortho" : "perspective";
     add_kernel(s, fns, "primitive_bound_" + proj);
-    add_kernel(s, fns, "sphere_vertex_" + proj);
     add_kernel(s, fns, "clip_position");
-    const char* q = ortho ? "" : "flat ";
-    const char* vq = ortho ? "flat " : "";
     std::ostringstream m;
     m << record_glsl;
-    m << "uniform mat4 qc_view;\nuniform mat4 qc_projection;\nuniform mat3 qc_view_rot_inv;\nuniform vec3 qc_eye;\n"
-         "uniform vec3 qc_near_corners[4];  // view space, used when the eye is inside a bounding sphere\n"
-         "uniform uint qc_first;\n\n"
-         "flat out float qc_radius;\nflat out vec3 qc_prim_color;\nflat out vec2 qc_prim_material;  // specular, shininess\n"
-      << q << "out vec3 qc_o;\n" << vq << "out vec3 qc_v;\n\n";
+    m << bound_uniforms << "\n"
+         "flat out float qc_radius;\nflat out vec3 qc_center;\nflat out vec3 qc_prim_color;\nflat out vec2 qc_prim_material;  // specular, shininess\n\n";
     m << fns.str();
     m << "// Indexed draw: vertex 4 i + k is corner k of primitive qc_first + i (two triangles share two).\n"
          "void main()\n{\n"
          "    uint prim = qc_first + uint(gl_VertexID) / 4u;\n"
          "    int k = gl_VertexID % 4;\n"
          "    qc_Primitive p = qc_prims[prim];\n"
-         "    vec3 c0, c1, c2, c3;\n    bool valid;\n"
-         "    qc_primitive_bound_" << proj << "(qc_view, qc_record_center(p), qc_record_radius(p), c0, c1, c2, c3, valid);\n"
-         "    vec3 corners[4] = vec3[4](c0, c1, c2, c3);\n"
-         "    vec3 corner = valid ? corners[k] : qc_near_corners[k];\n"
-         "    qc_sphere_vertex_" << proj << "(qc_record_center(p), corner, qc_view_rot_inv, qc_eye, qc_o, qc_v);\n"
-         "    qc_radius = qc_record_radius(p);\n"
+      << bound_glsl(proj, false)
+      << "    qc_radius = qc_record_radius(p);\n"
+         "    qc_center = qc_record_center(p);\n"
          "    qc_prim_color = qc_record_color(p);\n"
          "    qc_prim_material = qc_record_material(p);\n"
-         "    qc_clip_position(qc_projection, corner, gl_Position);\n"
+         "    gl_Position = clip;\n"
          "}\n";
     s.text = m.str();
     return s;
@@ -133,9 +151,9 @@ Stage fragment_shader(const render::QuadricKey& k) {
     const bool planes = k.shape == FragmentShape::planes;
     const bool sphere = k.shape == FragmentShape::sphere;  // radius, colour, o, v from the vertex stage
     const bool slab = k.shape == FragmentShape::slab;
-    const std::string kernel = render::fragment_kernel_name(k.shape, k.cull, brute);
+    const std::string kernel = render::fragment_kernel_name(k.shape, k.cull);
     std::ostringstream fns;
-    if (brute) add_kernel(s, fns, "pixel_ray");
+    add_kernel(s, fns, brute ? std::string("pixel_ray") : std::string("fragment_ray_") + (ortho ? "ortho" : "perspective"));
     add_kernel(s, fns, kernel);
     if (!gbuffer) add_kernel(s, fns, "shade_blinn_phong");
     if (env) {
@@ -144,8 +162,6 @@ Stage fragment_shader(const render::QuadricKey& k) {
         add_kernel(s, fns, "environment_mix");
         fns << environment_glsl;
     }
-    const char* q = ortho ? "" : "flat ";
-    const char* vq = ortho ? "flat " : "";
     std::ostringstream m;
     if (!sphere) m << record_glsl;
     if (planes)
@@ -156,6 +172,9 @@ Stage fragment_shader(const render::QuadricKey& k) {
     if (brute)
         m << "uniform mat4 qc_inv_view_proj;  // brute force: the pixel's ray from gl_FragCoord\n"
              "uniform vec3 qc_eye;\nuniform vec2 qc_viewport;\n";
+    else
+        m << "uniform vec3 qc_ray_base, qc_ray_dx, qc_ray_dy;  // the pixel's ray, affine in gl_FragCoord.xy (quadcast::window_ray)\n"
+             "uniform vec3 qc_ray_fixed;    // the eye (perspective) or the viewing direction (orthographic)\n";
     m << "uniform vec3 qc_vz_row;       // third row of the world->view rotation\n"
          "uniform vec4 qc_pz;           // P22, P32, P23, P33 of the projection\n";
     if (!gbuffer)
@@ -163,10 +182,9 @@ Stage fragment_shader(const render::QuadricKey& k) {
              "uniform vec4 qc_material;     // ambient, diffuse, specular, shininess\n";
     if (env) m << environment_uniforms;
     if (sphere)
-        m << "\nflat in float qc_radius;\nflat in vec3 qc_prim_color;\nflat in vec2 qc_prim_material;\n" << q << "in vec3 qc_o;\n" << vq << "in vec3 qc_v;\n";
+        m << "\nflat in float qc_radius;\nflat in vec3 qc_center;\nflat in vec3 qc_prim_color;\nflat in vec2 qc_prim_material;\n";
     else
-        m << "\nflat in uint qc_prim;\n"
-          << q << "in vec3 qc_o;\n" << vq << "in vec3 qc_v;\n" << q << "in vec3 qc_g;\n" << vq << "in vec3 qc_a;\n";
+        m << "\nflat in uint qc_prim;\n";
     if (gbuffer)
         m << "layout(location = 0) out vec4 qc_gnormal;  // normal (unnormalised), window depth\n"
              "layout(location = 1) out vec4 qc_gview;    // ray direction, shininess (> 0: covered)\n"
@@ -177,19 +195,19 @@ Stage fragment_shader(const render::QuadricKey& k) {
     m << "void main()\n{\n"
       << (sphere ? "" : "    qc_Primitive p = qc_prims[qc_prim];\n")
       << "    bool hit;\n    float depth;\n    vec3 n;\n";
-    if (brute)
-        m << "    vec3 ro, rd;\n"
-             "    qc_pixel_ray(qc_inv_view_proj, qc_eye, gl_FragCoord.xy, qc_viewport, ro, rd);\n";
-    const char* eye_vec = brute ? "rd" : "qc_v";
+    m << "    vec3 ro, rd;\n";
+    if (brute) m << "    qc_pixel_ray(qc_inv_view_proj, qc_eye, gl_FragCoord.xy, qc_viewport, ro, rd);\n";
+    else m << "    qc_fragment_ray_" << (ortho ? "ortho" : "perspective") << "(qc_ray_base, qc_ray_dx, qc_ray_dy, qc_ray_fixed, gl_FragCoord.xy, ro, rd);\n";
+    const char* eye_vec = "rd";
     const char* color = sphere ? "qc_prim_color" : "qc_record_color(p)";
     const char* material = sphere ? "qc_prim_material" : "qc_record_material(p)";
     if (sphere)
-        m << "    qc_" << kernel << "(qc_radius, qc_o, qc_v, qc_vz_row, qc_pz, hit, depth, n);\n";
+        m << "    qc_" << kernel << "(qc_radius, qc_center, ro, rd, qc_vz_row, qc_pz, hit, depth, n);\n";
     else
         m << "    qc_" << kernel << "(qc_record_quadric(p), qc_record_center(p), qc_record_radius(p), qc_record_axis(p), qc_record_half_length(p),\n"
           << (slab ? "        qc_record_caps(p),\n" : "")
           << (planes ? "        qc_planes[qc_prim - qc_first].p[0], qc_planes[qc_prim - qc_first].p[1], qc_planes[qc_prim - qc_first].p[2], qc_planes[qc_prim - qc_first].p[3],\n" : "")
-          << (brute ? "        ro, rd, qc_vz_row, qc_pz, hit, depth, n);\n" : "        qc_o, qc_v, qc_g, qc_a, qc_vz_row, qc_pz, hit, depth, n);\n");
+          << "        ro, rd, qc_vz_row, qc_pz, hit, depth, n);\n";
     m << "    if (!hit) discard;\n"
          "    gl_FragDepth = depth;\n";
     if (gbuffer)

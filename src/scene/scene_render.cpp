@@ -162,6 +162,7 @@ Frame build_frame(const scene::Scene& s, int width, int height) {
     fr.options.width = width;
     fr.options.height = height;
     fr.options.culling = s.options.culling;
+    fr.options.tight_bounds = s.options.tight_bounds;
     fr.options.background = cast<float>(s.options.background);
     fr.options.deferred = s.options.deferred;
     fr.options.silhouettes = s.options.silhouettes;

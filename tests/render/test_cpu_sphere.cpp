@@ -99,7 +99,9 @@ TEST_CASE("a sphere covers the pixels whose exact rays hit it, from 1.05 r to 10
 TEST_CASE("sphere depths and normals match the exact hit of the pixel ray") {
     // The reference is the exact (long double) hit of the renderer's own float pixel ray
     // (`pixel_ray`), so this measures the cast, not the ray set-up; the ray itself is checked
-    // against the exact pixel ray (angle <= 2 eps). Bounds, with s = |e - c| + r:
+    // against the exact pixel ray: angle <= 2 eps (1 + K), K = (|base| + x |dx| + |base + x dx| +
+    // y |dy|) / |dir| (the terms of `window_ray` rounded once, its two products and two sums
+    // rounded once each). Bounds of the cast, with s = |e - c| + r:
     //   |z - z_exact| <= 4 eps s / cos(theta)   (theta = angle of incidence: near the
     //                                            silhouette the hit slides along the surface)
     //   |depth - depth_exact| <= |d depth / dz| * that + 2 eps
@@ -133,8 +135,11 @@ TEST_CASE("sphere depths and normals match the exact hit of the pixel ray") {
                         const V3 d = ld(pr.dir), o = ld(pr.origin);
                         const LD cosang = std::min(1.0L, dot_ld(d, ed) / (norm_ld(d) * norm_ld(ed)));
                         const double ray_angle = double(std::sqrt(2 * (1 - cosang)) / eps_f);
-                        worst_ray = std::max(worst_ray, ray_angle);
-                        CHECK(ray_angle <= 2.0);
+                        const V3 base = ld(f.rays.base), rdx = ld(f.rays.dx) * LD(x + 0.5), rdy = ld(f.rays.dy) * LD(y + 0.5);
+                        const V3 moving = f.orthographic ? o : d;
+                        const LD k_ray = (norm_ld(base) + norm_ld(rdx) + norm_ld(base + rdx) + norm_ld(rdy)) / norm_ld(moving);
+                        worst_ray = std::max(worst_ray, ray_angle / double(1 + k_ray));
+                        CHECK(ray_angle <= double(2 * (1 + k_ray)));
                         // The fragment the renderer kept is the cast of this ray
                         const Fragment fr = cast_fragment(v.prim, pr, f, true);
                         if (!fr.hit) {
@@ -167,7 +172,7 @@ TEST_CASE("sphere depths and normals match the exact hit of the pixel ray") {
                         ++samples;
                     }
             }
-    std::printf("[render] sphere hits: %ld samples; pixel ray angle <= %.2f eps; depth error <= %.3f of its bound; "
+    std::printf("[render] sphere hits: %ld samples; pixel ray angle <= %.2f eps (1 + K); depth error <= %.3f of its bound; "
                 "normal angle <= %.3f of its bound (max %.2e rad)\n",
                 samples, worst_ray, worst_depth, worst_normal, worst_angle);
     CHECK(samples > 50000);

@@ -20,63 +20,6 @@ namespace {
 V3 ldv(const glm::vec3& v) { return vec3(LD(v[0]), LD(v[1]), LD(v[2])); }
 V3 cross_ld(const V3& a, const V3& b) { return vec3(a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]); }
 
-/// Nearest t > 0 where the ray meets a circular cylinder p0-p1 of radius r whose ends are
-/// closed where cap0 / cap1 say (the wall between the end planes, each closed end's disc).
-LD tube_hit(const V3& o, const V3& d, const V3& p0, const V3& p1, LD r, bool cap0, bool cap1) {
-    const V3 ax = (p1 - p0) / norm_ld(p1 - p0);
-    const LD len = norm_ld(p1 - p0);
-    LD best = -1;
-    auto take = [&](LD t) { if (t > 0 && (best < 0 || t < best)) best = t; };
-    const V3 op = o - p0;
-    const V3 dp = d - ax * dot_ld(d, ax), opp = op - ax * dot_ld(op, ax);
-    const LD qa = dot_ld(dp, dp), qb = dot_ld(opp, dp), qc = dot_ld(opp, opp) - r * r;
-    const LD disc = qb * qb - qa * qc;
-    if (qa > 0 && disc >= 0) {
-        for (LD t : {(-qb - std::sqrt(disc)) / qa, (-qb + std::sqrt(disc)) / qa}) {
-            const LD s = dot_ld(op + d * t, ax);
-            if (s >= 0 && s <= len) take(t);
-        }
-    }
-    for (int e = 0; e < 2; ++e) {
-        if (!(e == 0 ? cap0 : cap1)) continue;
-        const V3 c = e == 0 ? p0 : p1;
-        const LD den = dot_ld(d, ax);
-        if (den == 0) continue;
-        const LD t = dot_ld(c - o, ax) / den;
-        const V3 x = o + d * t - c;
-        if (dot_ld(x, x) <= r * r) take(t);
-    }
-    return best;
-}
-
-/// Nearest t > 0 on the cone from `apex` to the disc of radius r at `base` (the disc if capped).
-LD cone_hit(const V3& o, const V3& d, const V3& apex, const V3& base, LD r, bool cap) {
-    const LD H = norm_ld(base - apex);
-    const V3 ax = (base - apex) / H;
-    const LD k = r / H;
-    LD best = -1;
-    auto take = [&](LD t) { if (t > 0 && (best < 0 || t < best)) best = t; };
-    // |x_perp|^2 = k^2 s^2 with s = (x - apex).ax in [0, H]
-    const V3 oa = o - apex;
-    const LD ds = dot_ld(d, ax), os = dot_ld(oa, ax);
-    const V3 dp = d - ax * ds, opp = oa - ax * os;
-    const LD qa = dot_ld(dp, dp) - k * k * ds * ds, qb = dot_ld(opp, dp) - k * k * os * ds, qc = dot_ld(opp, opp) - k * k * os * os;
-    if (qa != 0) {
-        const LD disc = qb * qb - qa * qc;
-        if (disc >= 0)
-            for (LD t : {(-qb - std::sqrt(disc)) / qa, (-qb + std::sqrt(disc)) / qa}) {
-                const LD s = os + ds * t;
-                if (s >= 0 && s <= H) take(t);
-            }
-    }
-    if (cap && ds != 0) {
-        const LD t = (H - os) / ds;
-        const V3 x = o + d * t - base;
-        if (dot_ld(x, x) <= r * r) take(t);
-    }
-    return best;
-}
-
 /// Every t > 0 where the ray meets the bilinear patch P(u, v), u, v in [0, 1] (Ramsey et al.'s
 /// approach: two planes through the ray give two bilinear equations in u, v), nearest first; -1
 /// if none. Independent of quadcast's quadric form of the patch.

@@ -483,3 +483,10 @@ TEST_CASE("options.outline and options.shadow set the outline and shadow paramet
     e = error_of(R"({"objects": [], "options": {"shadow": {"bias": -1}}})");
     CHECK(e.field() == "/options/shadow/bias");
 }
+
+TEST_CASE("options.tight_bounds switches the tight screen rectangles and must be a boolean") {
+    CHECK(parse(R"({"objects": []})").options.tight_bounds);
+    CHECK_FALSE(parse(R"({"objects": [], "options": {"tight_bounds": false}})").options.tight_bounds);
+    const ParseError e = error_of(R"({"objects": [], "options": {"tight_bounds": 1}})");
+    CHECK(std::string(e.what()) == "s.json:1:45: /options/tight_bounds: expected true or false, got number 1");
+}

@@ -2,8 +2,9 @@
 //
 // One scene (random spheres and capped cylinders in the unit cube, 1024x768, perspective) drawn
 // with three fragment stages over the same bounding quads, interleaved frame by frame in one run:
-// the incremental stage of the renderer (the interpolated ray terms, Stoll et al. 2006, sec. 5,
-// who report 1.75x the fill rate of brute force), the brute-force stage (the pixel's world ray
+// the renderer's stage (the pixel's ray from the frame's affine terms, `window_ray`: the ray terms
+// of Stoll et al. 2006, sec. 5, who report 1.75x the fill rate of brute force, evaluated at
+// gl_FragCoord instead of interpolated), the brute-force stage (the pixel's world ray
 // from gl_FragCoord via the inverse view-projection, then `local_ray` and `cast` per fragment) and
 // a pass-through stage (constant colour, rasterised depth: the rasteriser's ceiling). Fragments are
 // counted with a GL_SAMPLES_PASSED query over a pass-through frame with the depth test off (every

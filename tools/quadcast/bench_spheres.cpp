@@ -1,12 +1,19 @@
-// tools/quadcast/bench_spheres.cpp -- `quadcast bench spheres`: frame time against sphere count
+// tools/quadcast/bench_spheres.cpp -- `quadcast bench spheres` and `quadcast bench sticks`: frame
+// time and fragments per covered pixel with tight screen bounds off and on
 //
-// N random spheres in the unit cube, radius 0.3 N^(-1/3), seen at 1024x768 with a 30 degree
-// perspective camera, rendered by the GL quadric renderer (Mesa llvmpipe here) with the
-// sphere-specialised variant (Variant::sphere). Prints the median frame time over the frames
-// after a warm-up, and the ratio to the fps quoted for VTK 9.1's vtkOpenGLSphereMapper on this
-// machine (10.1 / 3.6 / 0.46 fps at 10k/100k/1M). With --compare the general closed-quadric
-// variant (Variant::ellipsoid) draws the same spheres too, frame by frame interleaved with the
-// sphere variant in one run (the machine's load changes both alike), and the ratio is printed.
+// spheres: N random spheres in the unit cube, radius 0.3 N^(-1/3); sticks: N capped cylinders of
+// length 0.05 and radius 0.005 at random positions in the unit cube and random directions. Both
+// seen at 1024x768 with a 30 degree perspective camera from (0.5, 0.5, 3), rendered by the GL
+// quadric renderer (Mesa llvmpipe here): spheres with the sphere-specialised variant, sticks with
+// the slab variant. Each scene is drawn over the bounding-sphere quads (tight bounds off) and over
+// the tight rectangles (on), frame by frame interleaved in one run (the machine's load changes
+// both alike); the medians and their ratio are printed, and per covered pixel: the fragments
+// rasterised (one extra frame each with the pass-through fragment stage and the depth test off:
+// GL_SAMPLES_PASSED counts every fragment of every bounding quad) and the fragment-shader
+// invocations of the real frame (GL_ARB_pipeline_statistics_query; llvmpipe counts 16 per 4x4
+// block it shades, so this is the work its fragment stage does). With
+// --compare (spheres) the general closed-quadric variant (Variant::ellipsoid, tight bounds on)
+// draws the same spheres too, interleaved, and its ratio to the sphere variant is printed.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -22,16 +29,18 @@
 #include "quadcast/gl/osmesa_context.hpp"
 #include "quadcast/gl/quadric_renderer.hpp"
 #include "quadcast/scene/scene_render.hpp"
+#include "quadcast/shapes.hpp"
 
 namespace quadcast::cli {
 
 namespace {
 
-struct SpheresOptions {
-    std::vector<int> counts{10000, 100000, 1000000};
+struct BoundsBenchOptions {
+    std::vector<int> counts;
     int frames = 5, width = 1024, height = 768;
     bool culling = true;
     bool compare = false;
+    bool sticks = false;
 };
 
 std::vector<render::Primitive> random_spheres(int n, unsigned seed, render::Variant variant) {
@@ -52,70 +61,116 @@ std::vector<render::Primitive> random_spheres(int n, unsigned seed, render::Vari
     return out;
 }
 
-void run_spheres(const SpheresOptions& o) {
+/// N capped sticks (length 0.05, radius 0.005) in the unit cube, through the public shapes API.
+std::vector<render::Primitive> random_sticks(int n, unsigned seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f), s(-1.0f, 1.0f), c(0.2f, 1.0f);
+    std::vector<render::Primitive> out;
+    out.reserve(static_cast<std::size_t>(n));
+    while (static_cast<int>(out.size()) < n) {
+        const glm::vec3 d(s(rng), s(rng), s(rng));
+        const float l = glm::length(d);
+        if (!(l > 0.05f && l <= 1.0f)) continue;  // uniform directions
+        const glm::vec3 p(u(rng), u(rng), u(rng));
+        out.push_back(shapes::cylinder(p - d * (0.025f / l), p + d * (0.025f / l), 0.005f, shapes::Ends::both, {{c(rng), c(rng), c(rng)}}));
+    }
+    return out;
+}
+
+/// Pixels with a hit (depth < 1) in the last frame.
+long covered_pixels(const gl::QuadricRenderer& r) {
+    const render::Image img = r.read();
+    return static_cast<long>(std::count_if(img.depth.begin(), img.depth.end(), [](float d) { return d < 1.0f; }));
+}
+
+void run_bounds_bench(const BoundsBenchOptions& o) {
     gl::OsmesaContext ctx;
-    std::printf("quadcast bench spheres: %dx%d, 30 degree perspective, random spheres in the unit cube, r = 0.3 N^(-1/3)\n", o.width, o.height);
+    const char* what = o.sticks ? "random capped sticks (length 0.05, radius 0.005) in the unit cube" : "random spheres in the unit cube, r = 0.3 N^(-1/3)";
+    std::printf("quadcast bench %s: %dx%d, 30 degree perspective from (0.5, 0.5, 3), %s\n", o.sticks ? "sticks" : "spheres", o.width, o.height, what);
     std::printf("%s\n", ctx.info().summary().c_str());
-    if (o.compare)
-        std::printf("%10s %16s %16s %12s %12s %14s %16s\n", "spheres", "closed median ms", "sphere median ms", "closed fps", "sphere fps",
-                    "sphere/closed", "sphere / VTK");
-    else
-        std::printf("%10s %12s %10s %14s %16s\n", "spheres", "median ms", "fps", "VTK 9.1 fps", "quadcast / VTK");
+    std::printf("medians of %d interleaved frames; 'quad': tight bounds off (bounding-sphere quads), 'tight': on; per covered pixel: fragments\n"
+                "rasterised ('rast') and fragment-shader invocations ('fs', llvmpipe: 16 per 4x4 block shaded)\n", o.frames);
+    std::printf("%10s %9s %9s %9s %10s %10s %10s %9s %9s %9s", o.sticks ? "sticks" : "spheres", "covered", "quad ms", "tight ms", "speed-up", "quad rast", "tight rast",
+                "quad fs", "tight fs", "fs ratio");
+    if (o.compare) std::printf(" %16s %14s", "closed tight ms", "sphere/closed");
+    std::printf("\n");
     gl::QuadricRenderer r(ctx.api());
     std::unique_ptr<gl::QuadricRenderer> general;  // --compare: the closed-quadric variant
     if (o.compare) general = std::make_unique<gl::QuadricRenderer>(ctx.api());
     render::Camera cam;
     const double aspect = static_cast<double>(o.width) / o.height;
-    cam.view = cast<float>(quadcast::look_at(vec3(0.5, 0.5, 3.2), vec3(0.5, 0.5, 0.5), vec3(0.0, 1.0, 0.0)));
+    cam.view = cast<float>(quadcast::look_at(vec3(0.5, 0.5, 3.0), vec3(0.5, 0.5, 0.5), vec3(0.0, 1.0, 0.0)));
     cam.projection = cast<float>(quadcast::perspective(30.0, aspect, 1.0, 5.0));
-    cam.eye = vec3(0.5f, 0.5f, 3.2f);
+    cam.eye = vec3(0.5f, 0.5f, 3.0f);
     render::Light light;
     light.direction = vec3(-0.4f, -0.6f, -1.0f);
-    render::RenderOptions ro;
-    ro.width = o.width;
-    ro.height = o.height;
-    ro.culling = o.culling;
-    auto time_frame = [&](gl::QuadricRenderer& renderer) {
+    render::RenderOptions on, off;
+    on.width = off.width = o.width;
+    on.height = off.height = o.height;
+    on.culling = off.culling = o.culling;
+    off.tight_bounds = false;
+    auto time_frame = [&](gl::QuadricRenderer& renderer, const render::RenderOptions& ro) {
         const auto t0 = std::chrono::steady_clock::now();
         renderer.draw(cam, light, ro);
-        return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+        return ms_since(t0);
     };
     for (int n : o.counts) {
-        r.set_primitives(random_spheres(n, 7, render::Variant::sphere));
-        r.draw(cam, light, ro);  // warm-up
-        if (general) {
-            general->set_primitives(random_spheres(n, 7, render::Variant::ellipsoid));
-            general->draw(cam, light, ro);
-        }
-        std::vector<double> ms, ms_general;
+        r.set_primitives(o.sticks ? random_sticks(n, 7) : random_spheres(n, 7, render::Variant::sphere));
+        if (general) general->set_primitives(random_spheres(n, 7, render::Variant::ellipsoid));
+        // Count the fragments of one frame each (the queries are not in the timed frames)
+        r.set_count_fragments(true);
+        r.draw(cam, light, off);
+        const double frag_off = static_cast<double>(r.fragment_invocations());
+        r.draw(cam, light, on);
+        const double frag_on = static_cast<double>(r.fragment_invocations());
+        const long covered = std::max(1L, covered_pixels(r));
+        r.set_count_fragments(false);
+        r.set_fragment_stage(gl::QuadricRenderer::FragmentStage::passthrough);
+        r.set_depth_test(false);
+        r.draw(cam, light, off);
+        const double rast_off = static_cast<double>(r.samples_passed());
+        r.draw(cam, light, on);
+        const double rast_on = static_cast<double>(r.samples_passed());
+        r.set_depth_test(true);
+        r.set_fragment_stage(gl::QuadricRenderer::FragmentStage::incremental);
+        r.draw(cam, light, on);  // warm-up
+        if (general) general->draw(cam, light, on);  // warm-up
+        // Time the frames, interleaved
+        std::vector<double> ms_off, ms_on, ms_general;
         for (int i = 0; i < o.frames; ++i) {
-            if (general) ms_general.push_back(time_frame(*general));
-            ms.push_back(time_frame(r));
+            ms_off.push_back(time_frame(r, off));
+            ms_on.push_back(time_frame(r, on));
+            if (general) ms_general.push_back(time_frame(*general, on));
         }
-        const double med = median(ms);
-        const double vtk = n == 10000 ? 10.1 : n == 100000 ? 3.6 : n == 1000000 ? 0.46 : 0.0;
+        const double m_off = median(ms_off), m_on = median(ms_on);
+        std::printf("%10d %9ld %9.1f %9.1f %9.2fx %10.2f %10.2f %10.2f %9.2f %8.2fx", n, covered, m_off, m_on, m_off / m_on, rast_off / covered,
+                    rast_on / covered, frag_off / covered, frag_on / covered, frag_off / std::max(1.0, frag_on));
         if (general) {
-            const double med_general = median(ms_general);
-            std::printf("%10d %16.1f %16.1f %12.2f %12.2f %13.2fx %15.2fx\n", n, med_general, med, 1000.0 / med_general, 1000.0 / med,
-                        med_general / med, vtk > 0 ? 1000.0 / med / vtk : 0.0);
-            continue;
+            const double m_general = median(ms_general);
+            std::printf(" %16.1f %13.2fx", m_general, m_general / m_on);
         }
-        if (vtk > 0)
-            std::printf("%10d %12.1f %10.2f %14.2f %15.2fx\n", n, med, 1000.0 / med, vtk, 1000.0 / med / vtk);
-        else
-            std::printf("%10d %12.1f %10.2f %14s %16s\n", n, med, 1000.0 / med, "-", "-");
+        std::printf("\n");
     }
 }
 
 }  // namespace
 
 void add_bench_spheres(CLI::App& bench) {
-    auto o = std::make_shared<SpheresOptions>();
-    CLI::App* cmd = bench.add_subcommand("spheres", "frame time of N random spheres (10k / 100k / 1M) against VTK's sphere mapper");
+    auto o = std::make_shared<BoundsBenchOptions>();
+    o->counts = {10000, 100000, 1000000};
+    CLI::App* cmd = bench.add_subcommand("spheres", "frame time and fragments per covered pixel of N random spheres (10k / 100k / 1M), tight bounds off and on");
     cmd->add_option("--counts", o->counts, "sphere counts");
-    cmd->add_option("--frames", o->frames, "timed frames per count")->check(CLI::Range(1, 1000));
+    cmd->add_option("--frames", o->frames, "timed frames per count and mode")->check(CLI::Range(1, 1000));
     cmd->add_flag("--compare", o->compare, "also time the general closed-quadric variant, interleaved, and print the ratio");
-    cmd->callback([o] { run_spheres(*o); });
+    cmd->callback([o] { run_bounds_bench(*o); });
+
+    auto s = std::make_shared<BoundsBenchOptions>();
+    s->counts = {50000};
+    s->sticks = true;
+    CLI::App* sticks = bench.add_subcommand("sticks", "frame time and fragments per covered pixel of N random capped sticks (50k), tight bounds off and on");
+    sticks->add_option("--counts", s->counts, "stick counts");
+    sticks->add_option("--frames", s->frames, "timed frames per count and mode")->check(CLI::Range(1, 1000));
+    sticks->callback([s] { run_bounds_bench(*s); });
 }
 
 }  // namespace quadcast::cli

@@ -451,6 +451,16 @@ inline GLint get_integer(const Api& api, GLenum pname) {
     return v;
 }
 
+/// Whether the current context lists the extension `name` (glGetStringi(GL_EXTENSIONS, i)).
+inline bool has_extension(const Api& api, std::string_view name) {
+    const GLint n = get_integer(api, GL_NUM_EXTENSIONS);
+    for (GLint i = 0; i < n; ++i) {
+        const GLubyte* e = api.GetStringi(GL_EXTENSIONS, static_cast<GLuint>(i));
+        if (e && name == reinterpret_cast<const char*>(e)) return true;
+    }
+    return false;
+}
+
 inline Api Api::load(const Resolver& resolve) {
     if (!resolve) throw std::invalid_argument("quadcast::gl::Api::load: empty resolver");
     Api api;

@@ -2,9 +2,10 @@
 #pragma once
 // Host-only. One record per primitive in a shader storage buffer, pulled by gl_VertexID (no
 // vertex attributes, no display lists): 4 indexed vertices = one bounding quad per primitive. The
-// vertex stage does the per-primitive work once per corner (bounding quad, ray terms, culling;
-// an index buffer shares the two corners of the quad's diagonal),
-// the fragment stage casts the interpolated ray (incremental ray casting). Shaders come from
+// vertex stage does the per-primitive work once per corner (the tight screen rectangle or the
+// bounding-sphere quad, culling; an index buffer shares the two corners of the quad's diagonal),
+// the fragment stage casts the pixel's ray (`window_ray`: affine in the window position, so the
+// image does not depend on the bounding geometry) and finishes the quadratic. Shaders come from
 // the generated kernels, assembled per variant key (quadcast/render/variant_key.hpp: primitive
 // shape, culling, camera model, forward or geometry buffer ...); a scene compiles only the
 // variants it uses.
@@ -28,6 +29,7 @@
 #include "quadcast/render/record.hpp"
 #include "quadcast/render/types.hpp"
 #include "quadcast/render/variant_key.hpp"
+#include "quadcast/render/window_ray.hpp"
 
 namespace quadcast::gl {
 
@@ -55,12 +57,13 @@ public:
         api_->DeleteBuffers(1, &indices_);
         api_->DeleteVertexArrays(1, &vao_);
         if (query_) api_->DeleteQueries(1, &query_);
+        if (fs_query_) api_->DeleteQueries(1, &fs_query_);
     }
     QuadricRenderer(const QuadricRenderer&) = delete;
     QuadricRenderer& operator=(const QuadricRenderer&) = delete;
 
-    /// Which fragment stage the forward pass uses (`quadcast bench fragments`): the incremental
-    /// cast of the interpolated ray (default); brute force, which rebuilds the pixel's world ray
+    /// Which fragment stage the forward pass uses (`quadcast bench fragments`): the pixel's ray
+    /// from the frame's affine terms (`window_ray`, default); brute force, which rebuilds the pixel's world ray
     /// from gl_FragCoord (`pixel_ray`) and runs `local_ray` and `cast_ray` per fragment (same image,
     /// perspective camera and forward shading only); or a pass-through stage writing a constant
     /// colour and the rasterised depth over the same bounding quads (the fill-rate ceiling).
@@ -72,6 +75,16 @@ public:
     void set_depth_test(bool on) { depth_test_ = on; }
     /// Samples that passed (GL_SAMPLES_PASSED) in the primitive pass of the last `draw`.
     std::uint64_t samples_passed() const { return samples_passed_; }
+    /// Count fragment-shader invocations of the primitive pass (GL_ARB_pipeline_statistics_query,
+    /// GL_FRAGMENT_SHADER_INVOCATIONS) in the next draws; off by default. Throws
+    /// std::runtime_error when the context does not have the extension.
+    void set_count_fragments(bool on) {
+        if (on && !has_extension(*api_, "GL_ARB_pipeline_statistics_query"))
+            throw std::runtime_error("quadcast::gl::QuadricRenderer: the context has no GL_ARB_pipeline_statistics_query (fragment shader invocations)");
+        count_fragments_ = on;
+    }
+    /// Fragment-shader invocations of the primitive pass of the last `draw` (with `set_count_fragments`).
+    std::uint64_t fragment_invocations() const { return fragment_invocations_; }
     /// Other geometry (e.g. isosurfaces) drawn in every pass after the primitives; `p` must
     /// outlive its use here. `clear_passes` removes them.
     void add_pass(ScenePass& p) { passes_.push_back(&p); }
@@ -170,11 +183,21 @@ public:
         gl.DepthFunc(GL_LESS);
         if (!query_) gl.GenQueries(1, &query_);
         gl.BeginQuery(GL_SAMPLES_PASSED, query_);
+        if (count_fragments_) {
+            if (!fs_query_) gl.GenQueries(1, &fs_query_);
+            gl.BeginQuery(0x82F4 /* GL_FRAGMENT_SHADER_INVOCATIONS */, fs_query_);
+        }
         draw_primitives(cam, light, opt, deferred);
         gl.EndQuery(GL_SAMPLES_PASSED);
+        if (count_fragments_) gl.EndQuery(0x82F4);
         GLuint64 passed = 0;
         gl.GetQueryObjectui64v(query_, GL_QUERY_RESULT, &passed);
         samples_passed_ = static_cast<std::uint64_t>(passed);
+        if (count_fragments_) {
+            GLuint64 invocations = 0;
+            gl.GetQueryObjectui64v(fs_query_, GL_QUERY_RESULT, &invocations);
+            fragment_invocations_ = static_cast<std::uint64_t>(invocations);
+        }
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, 0);
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, 0);
         if (deferred) shade_deferred(cam, light, opt);
@@ -196,13 +219,16 @@ public:
         gl.BindVertexArray(vao_);
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, ssbo_);
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, planes_);
+        GLint viewport[4] = {0, 0, 1, 1};
+        gl.GetIntegerv(GL_VIEWPORT, viewport);
         for (int v = 0; v < render::variant_count; ++v) {
             if (ranges_[v].second == 0) continue;
             const auto variant = static_cast<render::Variant>(v);
             const bool cull = render::cast_options(variant, opt.culling).cull;
             const Program& prog = program(variant, opt.culling, cam.orthographic, deferred, opt.environment != nullptr);
             gl.UseProgram(prog.id());
-            set_uniforms(prog, cam, light, opt);
+            set_uniforms(prog, cam, light, opt, viewport[2], viewport[3]);
+            gl.Uniform1i(prog.uniform_location("qc_bound"), opt.tight_bounds ? static_cast<int>(render::rect_bound(variant)) : 0);
             gl.Uniform1i(prog.uniform_location("qc_cull"), cull && !cam.orthographic ? 1 : 0);
             gl.Uniform1ui(prog.uniform_location("qc_first"), ranges_[v].first);
             gl.Uniform1i(prog.uniform_location("qc_caps"), variant == render::Variant::slab ? 1 : 0);
@@ -335,7 +361,8 @@ private:
         if (status != GL_FRAMEBUFFER_COMPLETE) throw std::runtime_error("quadcast::gl::QuadricRenderer: incomplete geometry buffer");
     }
 
-    void set_uniforms(const Program& p, const render::Camera& cam, const render::Light& light, const render::RenderOptions& opt) const {
+    void set_uniforms(const Program& p, const render::Camera& cam, const render::Light& light, const render::RenderOptions& opt, int width,
+                      int height) const {
         const Api& gl = *api_;
         float view[16], proj[16], rot_inv[9];
         for (int j = 0; j < 4; ++j)
@@ -350,6 +377,14 @@ private:
         gl.UniformMatrix4fv(p.uniform_location("qc_projection"), 1, GL_FALSE, proj);
         gl.UniformMatrix3fv(p.uniform_location("qc_view_rot_inv"), 1, GL_FALSE, rot_inv);
         gl.Uniform3fv(p.uniform_location("qc_eye"), 1, cam.eye.c);
+        const Mat4<float> vp = render::view_projection(cam);
+        gl.UniformMatrix4fv(p.uniform_location("qc_view_projection"), 1, GL_FALSE, &vp[0][0]);
+        const render::WindowRayTerms rays = render::window_ray_terms(cam, width, height);
+        gl.Uniform3fv(p.uniform_location("qc_ray_base"), 1, rays.base.c);
+        gl.Uniform3fv(p.uniform_location("qc_ray_dx"), 1, rays.dx.c);
+        gl.Uniform3fv(p.uniform_location("qc_ray_dy"), 1, rays.dy.c);
+        gl.Uniform3fv(p.uniform_location("qc_ray_fixed"), 1, rays.fixed.c);
+        gl.Uniform2f(p.uniform_location("qc_viewport"), static_cast<float>(width), static_cast<float>(height));
         gl.Uniform3fv(p.uniform_location("qc_near_corners"), 4, near.data());
         gl.Uniform3fv(p.uniform_location("qc_vz_row"), 1, vz_row);
         gl.Uniform4fv(p.uniform_location("qc_pz"), 1, pz);
@@ -363,7 +398,6 @@ private:
         if (stage_ == FragmentStage::brute_force) {
             const Mat4<float> ivp = inverse_view_projection(cam);
             gl.UniformMatrix4fv(p.uniform_location("qc_inv_view_proj"), 1, GL_FALSE, &ivp[0][0]);
-            gl.Uniform2f(p.uniform_location("qc_viewport"), static_cast<float>(opt.width), static_cast<float>(opt.height));
         }
     }
 
@@ -437,8 +471,9 @@ private:
     GeneratedPrograms programs_{*api_, "quadcast::gl::QuadricRenderer"};
     FragmentStage stage_ = FragmentStage::incremental;
     bool depth_test_ = true;
-    GLuint query_ = 0;
-    std::uint64_t samples_passed_ = 0;
+    GLuint query_ = 0, fs_query_ = 0;
+    std::uint64_t samples_passed_ = 0, fragment_invocations_ = 0;
+    bool count_fragments_ = false;
 };
 
 }  // namespace quadcast::gl

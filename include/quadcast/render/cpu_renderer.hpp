@@ -8,13 +8,14 @@
 // plumbing around them: pixel rays, screen tiles, a depth test, 8-bit conversion, threads.
 //
 // Where it differs from the GPU on purpose or by nature:
-// - The GPU interpolates v and a = A v over the bounding quad; here they are computed per pixel
-//   (v through the pixel centre on the near plane, a = A v exactly). The hit is the same point
-//   up to rounding, so boundary pixels and low bits may differ; the maths is the same.
 // - A primitive is bounded by a conservative pixel rectangle around its `sphere_quad` (widened
-//   by 1/16 pixel) instead of the rasterised quad; pixels outside the quad but inside the rectangle
-//   are cast too. Like the GPU this assumes the clipped surface lies in the bounding sphere
-//   (true for every primitive the scene builder makes).
+//   by 1/16 pixel) instead of the rasterised quad, intersected with its tight rectangle
+//   (`primitive_pixels`: the same `primitive_rect` floats as the GL vertex stage, every pixel
+//   centre in it); pixels outside the quad but inside the rectangle are cast too. Like the GPU
+//   this assumes the clipped surface lies in the bounding sphere (true for every primitive the
+//   scene builder makes) and that a slab's surface lies between its two sections (cylinders,
+//   cones, one-sheet hyperboloids).
+// - Rays are the same on both: `window_ray` of the frame's terms at the pixel centre.
 // - Depth is kept in float (a GL depth buffer may be 24-bit); the depth test is GL_LESS against
 //   a cleared depth of 1, first primitive (lowest index) wins ties.
 // - Per-quadric culling is `cull_primitive` (`cull_primitive_with_caps` for the capped slab
@@ -38,6 +39,7 @@
 #include "quadcast/render/light_camera.hpp"
 #include "quadcast/render/types.hpp"
 #include "quadcast/render/validate.hpp"
+#include "quadcast/render/window_ray.hpp"
 #include "quadcast/shading.hpp"
 
 namespace quadcast::render {
@@ -55,6 +57,8 @@ struct FrameSetup {
     Mat4<double> view;          ///< the view matrix in double
     Mat4<double> projection;    ///< the projection matrix in double
     Mat4<double> projection_inv;
+    WindowRayTerms rays;        ///< the pixel rays (`window_ray`; qc_ray_* of the GL fragment stage)
+    Mat4<float> view_projection;  ///< `primitive_rect`'s world -> clip matrix (qc_view_projection)
 };
 
 /// A pixel's world-space ray as the GPU's vertex stage builds it at a quad corner.
@@ -140,21 +144,18 @@ inline FrameSetup frame_setup(const Camera& camera, int width, int height) {
     f.view = cast<double>(camera.view);
     f.projection = cast<double>(camera.projection);
     f.projection_inv = cpu_detail::inverse4(f.projection);
+    f.rays = window_ray_terms(camera, width, height);
+    f.view_projection = render::view_projection(camera);
     return f;
 }
 
 /// The ray of the pixel whose centre is (x + 0.5, y + 0.5) in WINDOW coordinates (y = 0 is the
-/// bottom row), as the GPU's vertex stage builds it (PrimitiveVertexKernel): the view-space
-/// point p on the near plane through the pixel centre (NDC (x, y, -1) unprojected by P^-1, in
-/// double, rounded to float), then `view_point_ray` (float).
+/// bottom row), as the GPU's fragment stage builds it (`fragment_ray_*`): `window_ray` of the
+/// frame's terms (`window_ray_terms`) at the pixel centre, in float.
 inline PixelRay pixel_ray(const FrameSetup& f, int x, int y) {
-    // Unproject the pixel centre onto the near plane
-    const double nx = (2.0 * (x + 0.5)) / f.width - 1.0;
-    const double ny = (2.0 * (y + 0.5)) / f.height - 1.0;
-    const Vec4<double> h = f.projection_inv * vec4(nx, ny, -1.0, 1.0);
-    const Vec3<float> p = vec3(float(h[0] / h[3]), float(h[1] / h[3]), float(h[2] / h[3]));
-    // Turn it into a world-space ray
-    const WorldRay<float> r = f.orthographic ? view_point_ray<true>(f.view_rot_inv, f.eye, p) : view_point_ray<false>(f.view_rot_inv, f.eye, p);
+    const Vec2<float> frag = vec2(float(x) + 0.5f, float(y) + 0.5f);
+    const WindowRayTerms& t = f.rays;
+    const WorldRay<float> r = f.orthographic ? window_ray<true>(t.base, t.dx, t.dy, t.fixed, frag) : window_ray<false>(t.base, t.dx, t.dy, t.fixed, frag);
     return {r.origin, r.dir};
 }
 
@@ -250,6 +251,47 @@ inline PixelRect screen_rect(const ClippedQuadric<float>& p, const FrameSetup& f
     pixel_span((lo[1] + 1) * (0.5 * f.height), (hi[1] + 1) * (0.5 * f.height), f.height, rect.y0, rect.y1);
     if (rect.x0 > rect.x1 || rect.y0 > rect.y1) return empty;
     return rect;
+}
+
+/// The pixels of an NDC rectangle: those whose centres (i + 0.5) lie in the closed window
+/// rectangle (a superset of what a rasteriser fills), clamped to the image.
+inline PixelRect ndc_pixels(const Vec2<float>& lo, const Vec2<float>& hi, const FrameSetup& f) {
+    PixelRect r;
+    const int n[2] = {f.width, f.height};
+    int* i0[2] = {&r.x0, &r.y0};
+    int* i1[2] = {&r.x1, &r.y1};
+    for (int k = 0; k < 2; ++k) {
+        const double a = std::clamp((double(lo[k]) + 1.0) * (0.5 * n[k]), -4.0, n[k] + 4.0);
+        const double b = std::clamp((double(hi[k]) + 1.0) * (0.5 * n[k]), -4.0, n[k] + 4.0);
+        *i0[k] = std::max(0, static_cast<int>(std::ceil(a - 0.5)));
+        *i1[k] = std::min(n[k] - 1, static_cast<int>(std::floor(b - 0.5)));
+    }
+    if (r.x0 > r.x1 || r.y0 > r.y1) return PixelRect{};
+    return r;
+}
+
+/// The pixels the renderers draw a primitive over: `screen_rect` (the bounding sphere's quad,
+/// with the early-outs behind the eye and outside the depth range), and with `tight` for the
+/// ellipsoid and slab variants its intersection with the primitive's rectangle (`primitive_rect`
+/// of `rect_bound(variant)`, the floats the GL vertex stage computes) where that is tight (empty
+/// where it is not visible).
+inline PixelRect primitive_pixels(const Primitive& p, const FrameSetup& f, bool tight) {
+    const PixelRect sphere = screen_rect(p.shape, f);
+    if (!tight || sphere.x0 > sphere.x1 || rect_bound(p.variant) == RectBound::sphere) return sphere;
+    const ClippedQuadric<float>& s = p.shape;
+    const Vec2<float> viewport = vec2(float(f.width), float(f.height));
+    ScreenRect<float> r{};
+    switch (rect_bound(p.variant)) {
+    case RectBound::sphere: return sphere;
+    case RectBound::ellipsoid: r = primitive_rect<RectBound::ellipsoid>(f.view_projection, s.q, s.center, s.radius, s.axis, s.half_length, viewport); break;
+    case RectBound::slab: r = primitive_rect<RectBound::slab>(f.view_projection, s.q, s.center, s.radius, s.axis, s.half_length, viewport); break;
+    }
+    if (!r.tight) return sphere;
+    if (!r.visible) return PixelRect{};
+    const PixelRect t = ndc_pixels(r.lo, r.hi, f);
+    const PixelRect both{std::max(t.x0, sphere.x0), std::max(t.y0, sphere.y0), std::min(t.x1, sphere.x1), std::min(t.y1, sphere.y1)};
+    if (both.x0 > both.x1 || both.y0 > both.y1) return PixelRect{};
+    return both;
 }
 
 namespace cpu_detail {
@@ -373,7 +415,7 @@ inline Image render_validated(const std::vector<Primitive>& prims, const Camera&
                 is_culled[i] = 1;
                 continue;
             }
-            rects[i] = screen_rect(prims[i].shape, f);
+            rects[i] = primitive_pixels(prims[i], f, options.tight_bounds);
         }
     });
 
@@ -406,6 +448,7 @@ inline Image render_validated(const std::vector<Primitive>& prims, const Camera&
         RenderOptions lo;
         lo.width = lo.height = options.shadow_map_size;
         lo.culling = options.culling;
+        lo.tight_bounds = options.tight_bounds;
         shadow.map = render_validated(prims, lc, light, lo, nullptr, threads).depth;
         shadow.size = options.shadow_map_size;
         shadow.step = options.pcf_step;

@@ -87,6 +87,10 @@ struct EnvironmentMap {
 struct RenderOptions {
     int width = 1024, height = 768;
     bool culling = true;                                  ///< per-fragment front-root selection + per-quadric culling
+    /// Draw ellipsoids and (open) slabs over their tight screen rectangles (`primitive_rect`: the
+    /// ellipsoid, the hull of a slab's two end sections) where that is safe; false: over the quad
+    /// around the bounding sphere, as every other variant. The same image either way.
+    bool tight_bounds = true;
     Vec3<float> background{{1.0f, 1.0f, 1.0f}};
     /// Ambient and diffuse weights of every primitive's shading ([2], [3]: the specular and
     /// shininess of geometry without a Material of its own, e.g. meshes).

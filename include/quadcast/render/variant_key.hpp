@@ -47,27 +47,26 @@ constexpr FragmentShape fragment_shape(CastOptions o) {
 }
 constexpr FragmentShape fragment_shape(Variant v) { return fragment_shape(cast_options(v, true)); }
 
-/// Name of the traced fragment kernel of a shape: fragment_<shape>[_nocull][_brute] (codegen/kernels).
-constexpr const char* fragment_kernel_name(FragmentShape s, bool cull, bool brute = false) {
+/// Name of the traced fragment kernel of a shape: fragment_<shape>[_nocull] (codegen/kernels);
+/// every fragment stage (window ray or brute force) casts with it.
+constexpr const char* fragment_kernel_name(FragmentShape s, bool cull) {
     switch (s) {
-    case FragmentShape::ellipsoid:
-        return brute ? (cull ? "fragment_ellipsoid_brute" : "fragment_ellipsoid_nocull_brute") : cull ? "fragment_ellipsoid" : "fragment_ellipsoid_nocull";
-    case FragmentShape::slab:
-        return brute ? (cull ? "fragment_slab_brute" : "fragment_slab_nocull_brute") : cull ? "fragment_slab" : "fragment_slab_nocull";
-    case FragmentShape::bounded:
-        return brute ? (cull ? "fragment_bounded_brute" : "fragment_bounded_nocull_brute") : cull ? "fragment_bounded" : "fragment_bounded_nocull";
-    case FragmentShape::planes:
-        return brute ? (cull ? "fragment_planes_brute" : "fragment_planes_nocull_brute") : cull ? "fragment_planes" : "fragment_planes_nocull";
+    case FragmentShape::ellipsoid: return cull ? "fragment_ellipsoid" : "fragment_ellipsoid_nocull";
+    case FragmentShape::slab: return cull ? "fragment_slab" : "fragment_slab_nocull";
+    case FragmentShape::bounded: return cull ? "fragment_bounded" : "fragment_bounded_nocull";
+    case FragmentShape::planes: return cull ? "fragment_planes" : "fragment_planes_nocull";
     case FragmentShape::sphere: return cull ? "fragment_sphere" : "fragment_sphere_nocull";
     }
     return "?";
 }
-constexpr const char* fragment_kernel_name(CastOptions o, bool brute = false) { return fragment_kernel_name(fragment_shape(o), o.cull, brute); }
+constexpr const char* fragment_kernel_name(CastOptions o) { return fragment_kernel_name(fragment_shape(o), o.cull); }
 
-/// Which fragment stage the quadric pass uses: the incremental cast of the interpolated ray; brute
-/// force (the pixel's ray from gl_FragCoord, then `local_ray` and `cast` per fragment; benchmark
-/// baseline, perspective camera, forward shading, no sphere variant); or a pass-through stage
-/// (constant colour, rasterised depth: the fill-rate ceiling).
+/// Which fragment stage the quadric pass uses: the pixel's ray from the frame's affine terms
+/// (`window_ray`; `incremental`: the terms are computed once per frame, the fragment only adds
+/// x dx + y dy), then `local_ray` and `cast`; brute force (the ray by unprojecting gl_FragCoord
+/// with the inverse view-projection, `pixel_ray`; benchmark baseline, perspective camera, forward
+/// shading, no sphere variant); or a pass-through stage (constant colour, rasterised depth: the
+/// fill-rate ceiling).
 enum class FragmentStage : std::uint8_t { incremental, brute_force, passthrough };
 
 /// A program of the quadric pass.

@@ -136,6 +136,8 @@ Mat4d quadric_matrix_from_coefficients(const std::array<double, 10>& k);
 /// culling, deferred shading, shadows, silhouette edges; background colour in [0,1].
 struct Options {
     bool culling = true;
+    /// "tight_bounds": draw each primitive over its tight screen rectangle (RenderOptions::tight_bounds).
+    bool tight_bounds = true;
     bool deferred = false;
     bool shadows = false;
     bool silhouettes = false;

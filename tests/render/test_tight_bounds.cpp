@@ -1,0 +1,198 @@
+// tests/render/test_tight_bounds.cpp -- tight screen rectangles: the CPU reference draws the same
+// image with them as with the bounding-sphere quads, and each rectangle holds every pixel an
+// independent long-double ray tracer sees covered
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <random>
+
+#include "quadcast/render/cpu_renderer.hpp"
+#include "render/bounds_scenes.hpp"
+
+using namespace qc_render_test;
+using namespace qc_bounds_test;
+
+TEST_CASE("tight bounds change no pixel of the CPU reference and cast fewer fragments") {
+    const int w = 320, h = 240;
+    Light light;
+    light.direction = vec3(-0.4f, -0.6f, -1.0f);
+    for (const BoundsScene& s : bounds_scenes(w, h))
+        for (bool cull : {true, false}) {
+            RenderOptions o;
+            o.width = w;
+            o.height = h;
+            o.culling = cull;
+            FrameStats tight_stats, sphere_stats;
+            o.tight_bounds = true;
+            const Image tight = render_cpu(s.prims, s.camera, light, o, &tight_stats);
+            o.tight_bounds = false;
+            const Image sphere = render_cpu(s.prims, s.camera, light, o, &sphere_stats);
+            const ImageDiff d = image_diff(tight, sphere);
+            std::printf("[cpu tight bounds] %s, culling %s: %ld covered px, %ld coverage / %ld colour / %ld depth differences; fragments cast %llu -> %llu (%.2fx fewer)\n",
+                        s.name.c_str(), cull ? "on" : "off", d.covered, d.coverage_diff, d.color_diff, d.depth_diff,
+                        static_cast<unsigned long long>(sphere_stats.fragments), static_cast<unsigned long long>(tight_stats.fragments),
+                        double(sphere_stats.fragments) / double(std::max<std::uint64_t>(1, tight_stats.fragments)));
+            CAPTURE(s.name);
+            CHECK(d.covered > 1000);
+            CHECK(d.coverage_diff == 0);
+            CHECK(d.color_diff == 0);
+            CHECK(d.depth_diff == 0);
+            CHECK(tight_stats.fragments <= sphere_stats.fragments);
+            CHECK(tight_stats.hits == sphere_stats.hits);
+        }
+}
+
+namespace {
+
+V3 ldg(const glm::vec3& v) { return vec3(LD(v[0]), LD(v[1]), LD(v[2])); }
+
+/// One primitive with what an independent tracer needs to know of it.
+struct Traced {
+    Primitive prim;
+    int kind;  // 0 sphere, 1 ellipsoid, 2 cylinder, 3 cone, 4 bounding sphere only
+    V3 a, b;   // centre / p0 / apex ; p1 / base
+    LD r = 0;
+    glm::vec3 radii{};
+    glm::mat3 rot{1.0f};
+    bool cap0 = true, cap1 = true;
+};
+
+/// Nearest t > 0 where the ray meets the ellipsoid c + R diag(radii) u, |u| = 1 (or -1).
+LD ellipsoid_hit(const V3& o, const V3& d, const Traced& t) {
+    V3 ou{}, du{};
+    const V3 oc = o - t.a;
+    for (int k = 0; k < 3; ++k) {
+        const V3 col = vec3(LD(t.rot[k][0]), LD(t.rot[k][1]), LD(t.rot[k][2]));
+        ou[k] = dot_ld(oc, col) / LD(t.radii[k]);
+        du[k] = dot_ld(d, col) / LD(t.radii[k]);
+    }
+    return sphere_hit(ou, du, vec3(LD(0), LD(0), LD(0)), 1);
+}
+
+LD traced_hit(const Traced& t, const V3& o, const V3& d) {
+    switch (t.kind) {
+    case 0: return sphere_hit(o, d, t.a, t.r);
+    case 1: return ellipsoid_hit(o, d, t);
+    case 2: return tube_hit(o, d, t.a, t.b, t.r, t.cap0, t.cap1);
+    case 3: return cone_hit(o, d, t.a, t.b, t.r, t.cap1);
+    default: return sphere_hit(o, d, ld(t.prim.shape.center), LD(t.prim.shape.radius));
+    }
+}
+
+Traced random_traced(std::mt19937& rng, int kind) {
+    std::uniform_real_distribution<float> u(-1.0f, 1.0f), r(0.02f, 0.6f), ang(0.0f, 6.2831853f);
+    Traced t;
+    t.kind = kind;
+    const glm::vec3 c(u(rng), u(rng), u(rng));
+    const glm::vec3 dir = glm::normalize(glm::vec3(u(rng), u(rng), u(rng)) + glm::vec3(1e-3f));
+    switch (kind) {
+    case 0: {
+        const float rr = r(rng);
+        t.prim = shapes::sphere(c, rr);
+        t.a = ldg(c);
+        t.r = rr;
+        break;
+    }
+    case 1: {
+        t.radii = glm::vec3(r(rng), r(rng), 0.2f * r(rng));
+        t.rot = glm::mat3(glm::rotate(glm::mat4(1.0f), ang(rng), dir));
+        t.prim = shapes::ellipsoid(c, t.radii, t.rot);
+        t.a = ldg(c);
+        break;
+    }
+    case 2: {
+        const float len = 4.0f * r(rng), rr = 0.1f * r(rng) + 0.002f;
+        const shapes::Ends ends[4] = {shapes::Ends::both, shapes::Ends::none, shapes::Ends::first, shapes::Ends::second};
+        const int e = std::uniform_int_distribution<int>(0, 3)(rng);
+        t.prim = shapes::cylinder(c, c + dir * len, rr, ends[e]);
+        t.a = ldg(c);
+        t.b = ldg(c + dir * len);
+        t.r = rr;
+        t.cap0 = e == 0 || e == 2;
+        t.cap1 = e == 0 || e == 3;
+        break;
+    }
+    case 3: {
+        const float len = 3.0f * r(rng), rr = r(rng);
+        const bool cap = u(rng) < 0.3f;
+        t.prim = shapes::cone(c, c + dir * len, rr, cap);
+        t.a = ldg(c);
+        t.b = ldg(c + dir * len);
+        t.r = rr;
+        t.cap1 = cap;
+        break;
+    }
+    default: {
+        // A quad and a tetrahedron-bounded quadric: their rectangle is the bounding sphere's.
+        const float w = r(rng);
+        t.prim = shapes::quad(c, c + glm::vec3(w, 0, 0.3f * w), c + glm::vec3(w, w, -0.2f * w), c + glm::vec3(0, w, 0.4f * w));
+        break;
+    }
+    }
+    return t;
+}
+
+}  // namespace
+
+TEST_CASE("a tight rectangle holds every pixel an independent long-double tracer sees covered") {
+    // Random primitives of each kind seen by random perspective and orthographic cameras, from
+    // afar and (every fourth) from close by, where bounds straddle the eye and near planes; each
+    // pixel's exact ray (ExactCamera, long double) against the primitive's exact surface; every
+    // pixel with a hit in the depth range must be one `primitive_pixels` draws.
+    const int w = 96, h = 72;
+    long covered = 0, missed = 0, tight_count = 0, count = 0, area_tight = 0, area_sphere = 0;
+    for (int it = 0; it < 400; ++it) {
+        std::mt19937 rng = rng_for(7, static_cast<std::uint32_t>(it));
+        const int kind = it % 5;
+        const Traced t = random_traced(rng, kind);
+        const bool ortho = it % 3 == 2;
+        const Vec3<double> dir = random_dir(rng);
+        const double dist = it % 4 == 3 ? uniform(rng, 0.05, 1.0) : uniform(rng, 0.8, 8.0);
+        const Vec3<double> target = cast<double>(t.prim.shape.center) + random_dir(rng) * uniform(rng, 0.0, 0.5);
+        const Vec3<double> eye = target + dir * dist;
+        const Mat4<float> proj = ortho ? qc_render_test::orthographic(-1.5, 1.5, -1.1, 1.1, 0.1, 30) : qc_render_test::perspective(uniform(rng, 20, 90), double(w) / h, 0.1, 30);
+        const Camera cam = qc_render_test::look_at(eye, target, std::fabs(dir[1]) < 0.9 ? vec3(0.0, 1.0, 0.0) : vec3(1.0, 0.0, 0.0), proj, ortho);
+        const FrameSetup f = frame_setup(cam, w, h);
+        const PixelRect tight = primitive_pixels(t.prim, f, true);
+        const PixelRect sphere = primitive_pixels(t.prim, f, false);
+        ++count;
+        const ClippedQuadric<float>& s = t.prim.shape;
+        const Vec2<float> vp = vec2(float(w), float(h));
+        bool is_tight = false;
+        switch (rect_bound(t.prim.variant)) {
+        case RectBound::sphere: is_tight = primitive_rect<RectBound::sphere>(f.view_projection, s.q, s.center, s.radius, s.axis, s.half_length, vp).tight; break;
+        case RectBound::ellipsoid: is_tight = primitive_rect<RectBound::ellipsoid>(f.view_projection, s.q, s.center, s.radius, s.axis, s.half_length, vp).tight; break;
+        case RectBound::slab: is_tight = primitive_rect<RectBound::slab>(f.view_projection, s.q, s.center, s.radius, s.axis, s.half_length, vp).tight; break;
+        }
+        tight_count += is_tight;
+        auto area = [](const PixelRect& r) { return r.x0 > r.x1 ? 0L : long(r.x1 - r.x0 + 1) * (r.y1 - r.y0 + 1); };
+        area_tight += area(tight);
+        area_sphere += area(sphere);
+        const ExactCamera ec(cam, w, h);
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                V3 o{}, d{};
+                ec.ray(x, y, o, d);
+                const LD th = traced_hit(t, o, d);
+                if (!(th > 0)) continue;
+                const LD depth = exact_depth(cam.projection, ec.view_z(o + d * th));
+                if (!(depth >= 0 && depth <= 1)) continue;
+                ++covered;
+                const bool inside = x >= tight.x0 && x <= tight.x1 && y >= tight.y0 && y <= tight.y1;
+                if (!inside) {
+                    ++missed;
+                    if (missed < 10)
+                        std::printf("[tight rect] iteration %d kind %d %s: covered pixel (%d, %d) outside [%d, %d] x [%d, %d]\n", it, kind,
+                                    ortho ? "ortho" : "perspective", x, y, tight.x0, tight.x1, tight.y0, tight.y1);
+                }
+            }
+    }
+    std::printf("[tight rect] %ld primitives (%ld tight), %ld covered pixels, %ld outside their rectangle; rectangle area %ld px against %ld px for the bounding-sphere quads' rectangles\n",
+                count, tight_count, covered, missed, area_tight, area_sphere);
+    CHECK(covered > 20000);
+    CHECK(tight_count > count / 2);
+    CHECK(tight_count < count);  // the close-by cameras need the fallback
+    CHECK(missed == 0);
+    CHECK(area_tight < area_sphere);
+}
