@@ -9,11 +9,16 @@ pkg_check_modules(QUADCAST_OSMESA REQUIRED IMPORTED_TARGET osmesa)
 get_filename_component(QUADCAST_ROOT ${CMAKE_CURRENT_LIST_DIR} DIRECTORY)
 file(GLOB QUADCAST_KERNEL_GLSL CONFIGURE_DEPENDS ${QUADCAST_ROOT}/generated/glsl/kernels/qc_*.glsl)
 set(QUADCAST_EMBEDDED ${CMAKE_CURRENT_BINARY_DIR}/generated/shaders.cpp)
+# The list of kernel files, rewritten at configure time only when it changes: a deleted kernel
+# (which no remaining input's time stamp shows) reruns the embedding too.
+string(REPLACE ";" "\n" QUADCAST_KERNEL_LIST "${QUADCAST_KERNEL_GLSL}")
+file(CONFIGURE OUTPUT ${CMAKE_CURRENT_BINARY_DIR}/generated/kernels.list CONTENT "${QUADCAST_KERNEL_LIST}\n")
 add_custom_command(OUTPUT ${QUADCAST_EMBEDDED}
   COMMAND ${CMAKE_COMMAND} -DKERNEL_DIR=${QUADCAST_ROOT}/generated/glsl/kernels -DOUTPUT=${QUADCAST_EMBEDDED}
           -P ${QUADCAST_ROOT}/cmake/embed_kernels.cmake
-  DEPENDS ${QUADCAST_KERNEL_GLSL} ${QUADCAST_ROOT}/cmake/embed_kernels.cmake
-  COMMENT "Embedding the traced GLSL kernels")
+  DEPENDS ${QUADCAST_KERNEL_GLSL} ${CMAKE_CURRENT_BINARY_DIR}/generated/kernels.list ${QUADCAST_ROOT}/cmake/embed_kernels.cmake
+  COMMENT "Embedding the traced GLSL kernels"
+  VERBATIM)
 add_library(quadcast_gl STATIC
   ${QUADCAST_EMBEDDED}
   ${QUADCAST_ROOT}/src/gl/stages.cpp

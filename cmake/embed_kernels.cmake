@@ -43,12 +43,7 @@ string(APPEND out "};\n\n}  // namespace\n\nstd::span<const Kernel> kernels() { 
 string(APPEND out "const Kernel* find_kernel(std::string_view name) {\n    for (const Kernel& k : table)\n        if (k.name == name) return &k;\n    return nullptr;\n}\n\n")
 string(APPEND out "std::string_view find(std::string_view name) {\n    const Kernel* k = find_kernel(name);\n    return k ? k->function : std::string_view();\n}\n\n")
 string(APPEND out "}  // namespace quadcast::generated\n")
-# Rewrite only when the text changed, so that an unchanged kernel set rebuilds nothing.
-if(EXISTS "${OUTPUT}")
-  file(READ "${OUTPUT}" old)
-  if(old STREQUAL out)
-    return()
-  endif()
-endif()
+# (always written: the rule runs only when a kernel file or the list changed, and its output
+# must then be newer than them)
 file(WRITE "${OUTPUT}.tmp" "${out}")
 file(RENAME "${OUTPUT}.tmp" "${OUTPUT}")

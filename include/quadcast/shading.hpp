@@ -121,13 +121,14 @@ T clamp_texel(const T& i, const T& last) {
 /// `texel` (`shadow_coord`), for a grid step of `step` texels, clamped to [0, last] (last = map
 /// size - 1): floor(texel) + (g mod 8, g div 8) step - floor(7 step / 2), so a step of 2 gives
 /// offsets -7, -5, ..., 7. A NaN or huge position gives a texel of the map's border.
-/// Numerics: gy = floor(g / 8) (exact: a power of two), gx = g - 8 gy; every term an integer
+/// Numerics: gy = floor(g * 0.125), gx = g - 8 gy; every term an integer
 /// below 2^24 in float (exact); `clamp_texel` per component.
 template <class T>
 Vec2<T> pcf_sample_texel(const Vec2<T>& texel, const T& g, const T& step, const T& last) {
-    const T gy = floor(g / T(8));
+    // (products with 1/8 and 1/2, exact by construction; GLSL's `/` need not be)
+    const T gy = floor(g * T(0.125));
     const T gx = g - T(8) * gy;
-    const T centre = floor(T(7) * step / T(2));
+    const T centre = floor(T(7) * step * T(0.5));
     return vec2(clamp_texel(floor(texel[0]) + gx * step - centre, last), clamp_texel(floor(texel[1]) + gy * step - centre, last));
 }
 

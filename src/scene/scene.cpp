@@ -1,6 +1,7 @@
 // src/scene/scene.cpp -- camera validation, quadric matrices, bounding boxes
 #include "quadcast/scene/scene.hpp"
 
+#include "quadcast/bilinear.hpp"
 #include "quadcast/quadric.hpp"
 
 #include <algorithm>
@@ -114,7 +115,7 @@ void Aabb::extend(const Aabb& b) {
 }
 // (halves first, and the diagonal scaled by its largest component: no overflow for boxes
 // near the double range)
-Vec3d Aabb::center() const { return lo * 0.5 + hi * 0.5; }
+Vec3d Aabb::center() const { return empty() ? Vec3d{{0.0, 0.0, 0.0}} : lo * 0.5 + hi * 0.5; }
 double Aabb::radius() const {
     if (empty()) return 0.0;
     const Vec3d h = hi * 0.5 - lo * 0.5;
@@ -190,7 +191,11 @@ Aabb Scene::bounds() const {
     for (const auto& x : cylinders) b.extend(scene::bounds(x));
     for (const auto& x : cones) b.extend(scene::bounds(x));
     for (const auto& x : quadrics) b.extend(scene::bounds(x));
-    for (const auto& x : quads) b.extend(scene::bounds(x));
+    for (const auto& x : quads) {
+        // (segments and points are not drawn: they neither move the frame nor the fitted camera)
+        const QuadKind k = classify_quad(x.p[0], x.p[1], x.p[2], x.p[3]);
+        if (k != QuadKind::segment && k != QuadKind::point && k != QuadKind::non_finite) b.extend(scene::bounds(x));
+    }
     for (const auto& x : volumes)
         if (!x.box.empty()) b.extend(x.box);
     return b;

@@ -92,9 +92,15 @@ std::vector<render::VolumeModel> prepare_volumes(const scene::Scene& sc, bool cp
         look.specular = float(v.material.specular);
         look.shininess = float(v.material.shininess);
         const Vec3<double> o = t.point(d.origin);
-        out.push_back(shapes::isosurface(d.grid, glm::dvec3(o[0], o[1], o[2]),
-                                         glm::dvec3(t.length(d.spacing[0]), t.length(d.spacing[1]), t.length(d.spacing[2])), float(v.iso), scheme,
-                                         look, cpu, 0, progress));
+        try {
+            out.push_back(shapes::isosurface(d.grid, glm::dvec3(o[0], o[1], o[2]),
+                                             glm::dvec3(t.length(d.spacing[0]), t.length(d.spacing[1]), t.length(d.spacing[2])), float(v.iso),
+                                             scheme, look, cpu, 0, progress));
+        } catch (const std::invalid_argument& e) {
+            scene::Location where = v.iso_where;
+            where.field = where.field.substr(0, where.field.rfind('/'));  // the volume entry, not its "iso"
+            throw std::runtime_error(scene::format_location(where) + e.what() + " ('" + d.source + "')");
+        }
     }
     return out;
 }

@@ -6,6 +6,7 @@
 // units (Angstrom for molecules). Nothing here is traced to GLSL.
 
 #include <array>
+#include <cmath>
 #include <filesystem>
 #include <memory>
 #include <optional>
@@ -165,8 +166,9 @@ struct Options {
 
 /// Axis-aligned box; empty while lo > hi.
 struct Aabb {
-    Vec3d lo{{1e300, 1e300, 1e300}};
-    Vec3d hi{{-1e300, -1e300, -1e300}};
+    // (empty: +inf / -inf, so that any finite coordinate extends it, even beyond 1e300)
+    Vec3d lo{{HUGE_VAL, HUGE_VAL, HUGE_VAL}};
+    Vec3d hi{{-HUGE_VAL, -HUGE_VAL, -HUGE_VAL}};
     bool empty() const { return lo[0] > hi[0] || lo[1] > hi[1] || lo[2] > hi[2]; }
     void extend(const Vec3d& p);
     /// Extends by the box [c - h, c + h].
