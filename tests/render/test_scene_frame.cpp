@@ -153,3 +153,23 @@ TEST_CASE("numeric range: every primitive kind draws the unit-scale picture at s
                 }
         }
 }
+
+TEST_CASE("numeric range: a scene beyond 1e300 is framed; a degenerate quad far away does not move the frame") {
+    // (no camera: it is fitted to the scene)
+    scene::Scene s = scene::parse_scene(R"({"objects": [{"sphere": {"center": [2e300, 0, 0], "radius": 1e299}}]})", "far.json", ".");
+    render::Frame f = render::build_frame(s, 64, 48);
+    CHECK(f.transform.offset[0] == doctest::Approx(2e300));
+    render::Image img = render::render_cpu(f.primitives, f.camera, f.light, f.options);
+    long covered = 0;
+    for (const float d : img.depth) covered += d < 1.0f;
+    CHECK(covered > 300);
+    // (the loader rejects such quads; a scene built in code may hold one, and it is not drawn)
+    s = scene::parse_scene(R"({"objects": [{"sphere": {"center": [0, 0, 0], "radius": 1}}]})", "point_quad.json", ".");
+    scene::BilinearQuad point{};
+    for (auto& p : point.p) p = scene::Vec3d{{1e6, 0.0, 0.0}};
+    s.quads.push_back(point);
+    f = render::build_frame(s, 64, 48);
+    CHECK(f.primitives.size() == 1);
+    CHECK(f.transform.scale == 1.0);
+    CHECK(f.transform.offset[0] == 0.0);
+}
