@@ -26,8 +26,8 @@ shapes::Appearance look(const scene::Material& m) {
     return {g(m.color), static_cast<float>(m.specular), static_cast<float>(m.shininess)};
 }
 
-/// Q' = M^T Q M for the frame's x = scale x' + offset, divided by its largest coefficient (in
-/// double, before anything becomes float); a zero or non-finite result is left to the shapes API.
+/// Q' = M^T Q M for the frame's x = scale x' + offset, normalised in double (shapes' own
+/// normalisation, before anything becomes float).
 glm::mat4 frame_quadric(const Mat4<double>& q, const FrameTransform& t) {
     Mat4<double> m = zero_mat<double, 4, 4>();
     for (int i = 0; i < 3; ++i) {
@@ -35,16 +35,10 @@ glm::mat4 frame_quadric(const Mat4<double>& q, const FrameTransform& t) {
         m[3][i] = t.offset[i];
     }
     m[3][3] = 1.0;
-    const Mat4<double> r = transpose(m) * q * m;
-    double big = 0.0;
-    for (int j = 0; j < 4; ++j)
-        for (int i = 0; i < 4; ++i) big = std::max(big, std::fabs(r[j][i]));
+    const Quadric<double> r = shapes::detail::normalized("quadric", Quadric<double>{transpose(m) * q * m});
     glm::mat4 out;
     for (int j = 0; j < 4; ++j)
-        for (int i = 0; i < 4; ++i) {
-            const double v = big > 0.0 && std::isfinite(big) ? 0.5 * (r[j][i] + r[i][j]) / big : r[j][i];
-            out[j][i] = static_cast<float>(v);
-        }
+        for (int i = 0; i < 4; ++i) out[j][i] = static_cast<float>(r.q[j][i]);
     return out;
 }
 
@@ -79,7 +73,8 @@ FrameTransform frame_transform(const scene::Aabb& box) {
 
 Frame build_frame(const scene::Scene& s, int width, int height) {
     Frame fr;
-    const FrameTransform t = frame_transform(s.bounds());
+    const scene::Aabb bounds = s.bounds();
+    const FrameTransform t = frame_transform(bounds);
     fr.transform = t;
     const auto P = [&](const V3& w) { return g(t.point(w)); };
     const auto L = [&](double l) { return static_cast<float>(t.length(l)); };
@@ -149,7 +144,7 @@ Frame build_frame(const scene::Scene& s, int width, int height) {
     if (!s.lights.empty()) {
         const scene::Light& l = s.lights.front();
         // (a direction: normalised in double, so that a light 1e300 away stays finite in float)
-        V3 d = l.kind == scene::Light::Kind::directional ? l.direction : t.point(s.bounds().center()) - t.point(l.position);
+        V3 d = l.kind == scene::Light::Kind::directional ? l.direction : t.point(bounds.center()) - t.point(l.position);
         double big = 0.0;
         for (int a = 0; a < 3; ++a) big = std::max(big, std::fabs(d[a]));
         if (big > 0.0 && std::isfinite(big)) d = d / big;
