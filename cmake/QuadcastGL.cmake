@@ -21,6 +21,7 @@ add_custom_command(OUTPUT ${QUADCAST_EMBEDDED}
   VERBATIM)
 add_library(quadcast_gl STATIC
   ${QUADCAST_EMBEDDED}
+  ${QUADCAST_ROOT}/src/gl/quadric_renderer.cpp
   ${QUADCAST_ROOT}/src/gl/stages.cpp
   ${QUADCAST_ROOT}/src/gl/spline_stages.cpp
   ${QUADCAST_ROOT}/src/gl/validate.cpp)

@@ -10,470 +10,76 @@
 // shape, culling, camera model, forward or geometry buffer ...); a scene compiles only the
 // variants it uses.
 
-#include <algorithm>
-#include <array>
-#include <chrono>
-#include <cmath>
-#include <map>
+#include <cstddef>
+#include <cstdint>
 #include <memory>
-#include <string>
 #include <vector>
 
-#include "quadcast/gl/framebuffer.hpp"
-#include "quadcast/gl/generated_programs.hpp"
-#include "quadcast/gl/loader.hpp"
-#include "quadcast/gl/program.hpp"
 #include "quadcast/gl/scene_pass.hpp"
-#include "quadcast/gl/validate.hpp"
-#include "quadcast/render/light_camera.hpp"
-#include "quadcast/render/record.hpp"
 #include "quadcast/render/types.hpp"
 #include "quadcast/render/variant_key.hpp"
-#include "quadcast/render/window_ray.hpp"
 
 namespace quadcast::gl {
 
-/// The std430 record of one primitive (quadcast::render::record_layout; `qc_Primitive` in the
-/// generated shaders is declared from the same layout).
-using PrimitiveRecord = std::array<float, render::record_slots * 4>;
-static_assert(sizeof(PrimitiveRecord) == 16 * render::record_slots);
+struct Api;
 
 /// Renders primitives into an offscreen framebuffer (RGBA8 colour, 32-bit float depth) of the
-/// context current when it is constructed. Not thread-safe (GL contexts are not).
+/// context current when it is constructed, which must outlive it and be current whenever it is
+/// used. Not thread-safe (GL contexts are not). Compiled in quadcast::gl (src/gl/quadric_renderer.cpp).
 class QuadricRenderer {
 public:
-    explicit QuadricRenderer(const Api& api) : api_(&api) {
-        api.GenVertexArrays(1, &vao_);
-        api.GenBuffers(1, &ssbo_);
-        api.GenBuffers(1, &planes_);
-        api.GenBuffers(1, &indices_);
-    }
-    ~QuadricRenderer() {
-        if (etex_) api_->DeleteTextures(1, &etex_);
-        release_shadow_map();
-        release_fbo();
-        api_->DeleteBuffers(1, &ssbo_);
-        api_->DeleteBuffers(1, &planes_);
-        api_->DeleteBuffers(1, &indices_);
-        api_->DeleteVertexArrays(1, &vao_);
-        if (query_) api_->DeleteQueries(1, &query_);
-        if (fs_query_) api_->DeleteQueries(1, &fs_query_);
-    }
+    /// Makes the renderer's vertex array and buffers in the current context (`api`: its function
+    /// table, e.g. `OsmesaContext::api()`).
+    explicit QuadricRenderer(const Api& api);
+    ~QuadricRenderer();
     QuadricRenderer(const QuadricRenderer&) = delete;
     QuadricRenderer& operator=(const QuadricRenderer&) = delete;
 
     /// Which fragment stage the forward pass uses (`quadcast bench fragments`): the pixel's ray
-    /// from the frame's affine terms (`window_ray`, default); brute force, which rebuilds the pixel's world ray
-    /// from gl_FragCoord (`pixel_ray`) and runs `local_ray` and `cast_ray` per fragment (same image,
-    /// perspective camera and forward shading only); or a pass-through stage writing a constant
-    /// colour and the rasterised depth over the same bounding quads (the fill-rate ceiling).
+    /// from the frame's affine terms (`window_ray`, default); brute force, which rebuilds the
+    /// pixel's world ray from gl_FragCoord (`pixel_ray`) and runs `local_ray` and `cast_ray` per
+    /// fragment (same image, perspective camera and forward shading only); or a pass-through
+    /// stage writing a constant colour and the rasterised depth over the same bounding quads
+    /// (the fill-rate ceiling).
     using FragmentStage = render::FragmentStage;
-    void set_fragment_stage(FragmentStage s) { stage_ = s; }
-    FragmentStage fragment_stage() const { return stage_; }
+    void set_fragment_stage(FragmentStage s);
+    FragmentStage fragment_stage() const;
     /// Depth test of the primitive pass (on by default); off makes every rasterised fragment
     /// count in `samples_passed`.
-    void set_depth_test(bool on) { depth_test_ = on; }
+    void set_depth_test(bool on);
     /// Samples that passed (GL_SAMPLES_PASSED) in the primitive pass of the last `draw`.
-    std::uint64_t samples_passed() const { return samples_passed_; }
+    std::uint64_t samples_passed() const;
     /// Count fragment-shader invocations of the primitive pass (GL_ARB_pipeline_statistics_query,
     /// GL_FRAGMENT_SHADER_INVOCATIONS) in the next draws; off by default. Throws
     /// std::runtime_error when the context does not have the extension.
-    void set_count_fragments(bool on) {
-        if (on && !has_extension(*api_, "GL_ARB_pipeline_statistics_query"))
-            throw std::runtime_error("quadcast::gl::QuadricRenderer: the context has no GL_ARB_pipeline_statistics_query (fragment shader invocations)");
-        count_fragments_ = on;
-    }
+    void set_count_fragments(bool on);
     /// Fragment-shader invocations of the primitive pass of the last `draw` (with `set_count_fragments`).
-    std::uint64_t fragment_invocations() const { return fragment_invocations_; }
+    std::uint64_t fragment_invocations() const;
     /// Other geometry (e.g. isosurfaces) drawn in every pass after the primitives; `p` must
     /// outlive its use here. `clear_passes` removes them.
-    void add_pass(ScenePass& p) { passes_.push_back(&p); }
-    void clear_passes() { passes_.clear(); }
+    void add_pass(ScenePass& p);
+    void clear_passes();
 
     /// Uploads the primitives (grouped by variant). Call again when they change. Throws
     /// std::invalid_argument (quadcast::render::validate) for a primitive that cannot be drawn
     /// as it says, before anything is uploaded.
-    void set_primitives(const std::vector<render::Primitive>& prims) {
-        gl::validate_primitives(prims);
-        std::vector<PrimitiveRecord> records;
-        std::vector<float> planes;  // 16 floats per primitive of the planes variant, in record order
-        records.reserve(prims.size());
-        prims_ = prims;
-        for (int v = 0; v < render::variant_count; ++v) {
-            ranges_[v] = {static_cast<std::uint32_t>(records.size()), 0};
-            for (const auto& p : prims) {
-                if (static_cast<int>(p.variant) != v) continue;
-                records.push_back(render::pack_record(p));
-                if (p.variant == render::Variant::planes)
-                    for (const auto& pl : p.shape.planes) planes.insert(planes.end(), pl.c, pl.c + 4);
-            }
-            ranges_[v].second = static_cast<std::uint32_t>(records.size()) - ranges_[v].first;
-        }
-        api_->BindBuffer(GL_SHADER_STORAGE_BUFFER, planes_);
-        api_->BufferData(GL_SHADER_STORAGE_BUFFER, static_cast<GLsizeiptr>(std::max<std::size_t>(1, planes.size()) * sizeof(float)),
-                         planes.empty() ? nullptr : planes.data(), GL_STATIC_DRAW);
-        api_->BindBuffer(GL_SHADER_STORAGE_BUFFER, ssbo_);
-        api_->BufferData(GL_SHADER_STORAGE_BUFFER, static_cast<GLsizeiptr>(std::max<std::size_t>(1, records.size()) * sizeof(PrimitiveRecord)),
-                         records.empty() ? nullptr : records.data(), GL_STATIC_DRAW);
-        api_->BindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
-        count_ = records.size();
-        // Two triangles per bounding quad over its 4 corners, so the vertex stage runs 4 times
-        // per primitive (the post-transform cache reuses the shared corners).
-        std::vector<std::uint32_t> idx(6 * std::max<std::size_t>(1, count_));
-        for (std::size_t i = 0; i < idx.size() / 6; ++i) {
-            const auto b = static_cast<std::uint32_t>(4 * i);
-            const std::uint32_t quad[6] = {b, b + 1, b + 2, b, b + 2, b + 3};
-            std::copy_n(quad, 6, idx.begin() + static_cast<std::ptrdiff_t>(6 * i));
-        }
-        api_->BindVertexArray(vao_);
-        api_->BindBuffer(GL_ELEMENT_ARRAY_BUFFER, indices_);
-        api_->BufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(idx.size() * sizeof(std::uint32_t)), idx.data(), GL_STATIC_DRAW);
-        api_->BindVertexArray(0);
-    }
+    void set_primitives(const std::vector<render::Primitive>& prims);
 
     /// Draws one frame into the offscreen framebuffer and waits for it (glFinish).
-    void draw(const render::Camera& cam, const render::Light& light, const render::RenderOptions& opt) {
-        const Api& gl = *api_;
-        ensure_fbo(opt.width, opt.height);
-        // Other passes shade forward without environment reflection: with an environment they
-        // go through the geometry buffer (the same image for the primitives).
-        const bool deferred = opt.deferred || opt.silhouettes || opt.shadows || (opt.environment && !passes_.empty());
-        if (opt.environment) ensure_environment(opt.environment);
-        gl.BindVertexArray(vao_);
-        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, ssbo_);
-        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, planes_);
-        if (opt.shadows) {
-            // Shadow map: the geometry-buffer programs from the light camera, depth only.
-            Vec3<double> lo{{1e300, 1e300, 1e300}}, hi{{-1e300, -1e300, -1e300}};
-            for (const ScenePass* p : passes_) {
-                Vec3<double> plo{}, phi{};
-                p->bounds(plo, phi);
-                for (int i = 0; i < 3; ++i) {
-                    lo[i] = std::min(lo[i], plo[i]);
-                    hi[i] = std::max(hi[i], phi[i]);
-                }
-            }
-            light_cam_ = render::light_camera(prims_, light, lo, hi);
-            ensure_shadow_map(opt.shadow_map_size);
-            gl.BindFramebuffer(GL_FRAMEBUFFER, sfbo_);
-            gl.Viewport(0, 0, shadow_size_, shadow_size_);
-            const float clear_one = 1.0f;
-            gl.ClearBufferfv(GL_DEPTH, 0, &clear_one);
-            gl.Enable(GL_DEPTH_TEST);
-            gl.DepthFunc(GL_LESS);
-            draw_primitives(light_cam_, light, opt, true);
-        }
-        const float bg[4] = {opt.background[0], opt.background[1], opt.background[2], 1.0f};
-        const float one = 1.0f;
-        if (deferred) {
-            // Geometry buffer: normal + depth (background: depth 1), ray direction + covered, colour.
-            ensure_gbuffer();
-            gl.BindFramebuffer(GL_FRAMEBUFFER, gfbo_);
-            const float gn_clear[4] = {0.0f, 0.0f, 0.0f, 1.0f}, zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
-            gl.ClearBufferfv(GL_COLOR, 0, gn_clear);
-            gl.ClearBufferfv(GL_COLOR, 1, zero);
-            gl.ClearBufferfv(GL_COLOR, 2, zero);
-        } else {
-            gl.BindFramebuffer(GL_FRAMEBUFFER, fbo_);
-            gl.ClearBufferfv(GL_COLOR, 0, bg);
-        }
-        gl.Viewport(0, 0, opt.width, opt.height);
-        gl.ClearBufferfv(GL_DEPTH, 0, &one);
-        if (depth_test_) gl.Enable(GL_DEPTH_TEST); else gl.Disable(GL_DEPTH_TEST);
-        gl.DepthFunc(GL_LESS);
-        if (!query_) gl.GenQueries(1, &query_);
-        gl.BeginQuery(GL_SAMPLES_PASSED, query_);
-        if (count_fragments_) {
-            if (!fs_query_) gl.GenQueries(1, &fs_query_);
-            gl.BeginQuery(0x82F4 /* GL_FRAGMENT_SHADER_INVOCATIONS */, fs_query_);
-        }
-        draw_primitives(cam, light, opt, deferred);
-        gl.EndQuery(GL_SAMPLES_PASSED);
-        if (count_fragments_) gl.EndQuery(0x82F4);
-        GLuint64 passed = 0;
-        gl.GetQueryObjectui64v(query_, GL_QUERY_RESULT, &passed);
-        samples_passed_ = static_cast<std::uint64_t>(passed);
-        if (count_fragments_) {
-            GLuint64 invocations = 0;
-            gl.GetQueryObjectui64v(fs_query_, GL_QUERY_RESULT, &invocations);
-            fragment_invocations_ = static_cast<std::uint64_t>(invocations);
-        }
-        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, 0);
-        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, 0);
-        if (deferred) shade_deferred(cam, light, opt);
-        gl.UseProgram(0);
-        gl.BindVertexArray(0);
-        gl.Finish();
-        check_errors(gl, "QuadricRenderer::draw");
-    }
+    void draw(const render::Camera& cam, const render::Light& light, const render::RenderOptions& opt);
 
     /// Draws every variant's primitives with the forward or geometry-buffer programs into the
     /// bound framebuffer, then the other passes (`add_pass`).
-    void draw_primitives(const render::Camera& cam, const render::Light& light, const render::RenderOptions& opt, bool deferred) {
-        const Api& gl = *api_;
-        // The bounding geometry (quads, tetrahedron faces) is a stand-in: the fragment stage
-        // computes the depth and keeps only hits in [0, 1]. Without depth clamping GL would clip
-        // the stand-in itself at the near and far planes, losing the visible part of a primitive
-        // whose quad lies beyond the far plane or in front of the near plane.
-        gl.Enable(GL_DEPTH_CLAMP);
-        gl.BindVertexArray(vao_);
-        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, ssbo_);
-        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, planes_);
-        GLint viewport[4] = {0, 0, 1, 1};
-        gl.GetIntegerv(GL_VIEWPORT, viewport);
-        for (int v = 0; v < render::variant_count; ++v) {
-            if (ranges_[v].second == 0) continue;
-            const auto variant = static_cast<render::Variant>(v);
-            const bool cull = render::cast_options(variant, opt.culling).cull;
-            const Program& prog = program(variant, opt.culling, cam.orthographic, deferred, opt.environment != nullptr);
-            gl.UseProgram(prog.id());
-            set_uniforms(prog, cam, light, opt, viewport[2], viewport[3]);
-            gl.Uniform1i(prog.uniform_location("qc_bound"), opt.tight_bounds ? static_cast<int>(render::rect_bound(variant)) : 0);
-            gl.Uniform1i(prog.uniform_location("qc_cull"), cull && !cam.orthographic ? 1 : 0);
-            gl.Uniform1ui(prog.uniform_location("qc_first"), ranges_[v].first);
-            gl.Uniform1i(prog.uniform_location("qc_caps"), variant == render::Variant::slab ? 1 : 0);
-            gl.DrawElements(GL_TRIANGLES, static_cast<GLsizei>(6 * ranges_[v].second), GL_UNSIGNED_INT, nullptr);
-        }
-        gl.BindTextureUnit(4, 0);
-        for (ScenePass* p : passes_) p->draw(cam, light, opt, deferred);
-        gl.Disable(GL_DEPTH_CLAMP);
-    }
+    void draw_primitives(const render::Camera& cam, const render::Light& light, const render::RenderOptions& opt, bool deferred);
 
     /// Reads back the last frame (rows top first, like the CPU renderer).
-    render::Image read() const {
-        return read_framebuffer(*api_, fbo_, width_, height_);
-    }
+    render::Image read() const;
 
-    std::size_t primitive_count() const { return count_; }
+    std::size_t primitive_count() const;
 
 private:
-    /// The program of variant `v`: forward (with `env`, environment reflection) or, with
-    /// `gbuffer`, the geometry-buffer stages (which do not shade), for the fragment stage set by
-    /// `set_fragment_stage` (compiled on first use).
-    const Program& program(render::Variant v, bool culling, bool ortho, bool gbuffer = false, bool env = false) {
-        return programs_.get(render::quadric_key(v, culling, ortho, gbuffer, env, stage_));
-    }
-
-    /// The deferred pass: one full-screen triangle into the colour target (depth test off; the
-    /// depth target keeps the quadric pass's depth) shading each pixel from the geometry buffer.
-    void shade_deferred(const render::Camera& cam, const render::Light& light, const render::RenderOptions& opt) {
-        const Api& gl = *api_;
-        const Program& prog = programs_.get(render::DeferredKey{opt.shadows, opt.silhouettes, opt.environment != nullptr});
-        gl.BindFramebuffer(GL_FRAMEBUFFER, fbo_);
-        gl.Disable(GL_DEPTH_TEST);
-        gl.UseProgram(prog.id());
-        for (int i = 0; i < 3; ++i) gl.BindTextureUnit(static_cast<GLuint>(i), gtex_[i]);
-        const float pz[4] = {cam.projection[2][2], cam.projection[3][2], cam.projection[2][3], cam.projection[3][3]};
-        gl.Uniform3fv(prog.uniform_location("qc_light_dir"), 1, light.direction.c);
-        gl.Uniform3fv(prog.uniform_location("qc_light_color"), 1, light.color.c);
-        gl.Uniform4fv(prog.uniform_location("qc_material"), 1, opt.material.c);
-        gl.Uniform3fv(prog.uniform_location("qc_background"), 1, opt.background.c);
-        gl.Uniform4fv(prog.uniform_location("qc_pz"), 1, pz);
-        gl.Uniform4fv(prog.uniform_location("qc_silhouette_params"), 1, opt.silhouette.c);
-        if (opt.environment) {
-            gl.BindTextureUnit(4, etex_);
-            gl.Uniform1f(prog.uniform_location("qc_reflectivity"), opt.reflectivity);
-        }
-        if (opt.shadows) {
-            gl.BindTextureUnit(3, stex_);
-            const Mat4<float> m = render::camera_to_light(cam, light_cam_);
-            float to_light[16];
-            for (int j = 0; j < 4; ++j)
-                for (int i = 0; i < 4; ++i) to_light[j * 4 + i] = m[j][i];
-            gl.UniformMatrix4fv(prog.uniform_location("qc_to_light"), 1, GL_FALSE, to_light);
-            gl.Uniform2f(prog.uniform_location("qc_viewport"), static_cast<float>(opt.width), static_cast<float>(opt.height));
-            gl.Uniform1f(prog.uniform_location("qc_shadow_size"), static_cast<float>(shadow_size_));
-            gl.Uniform1f(prog.uniform_location("qc_shadow_bias"), opt.shadow_bias / static_cast<float>(shadow_size_));
-            gl.Uniform1f(prog.uniform_location("qc_pcf_step"), static_cast<float>(opt.pcf_step));
-        }
-        gl.DrawArrays(GL_TRIANGLES, 0, 3);
-        for (int i = 0; i < 5; ++i) gl.BindTextureUnit(static_cast<GLuint>(i), 0);
-    }
-
-    /// The environment image as an RGB32F texture (the floats of the map, read with texelFetch:
-    /// no filtering or format conversion), uploaded when the map changes.
-    void ensure_environment(const std::shared_ptr<const render::EnvironmentMap>& env) {
-        if (env == env_) return;
-        const Api& gl = *api_;
-        if (env->width < 1 || env->height < 1 || env->rgb.size() != std::size_t(env->width) * env->height * 3)
-            throw std::invalid_argument("quadcast::gl::QuadricRenderer: environment map size does not match its texels");
-        if (etex_) gl.DeleteTextures(1, &etex_);
-        gl.GenTextures(1, &etex_);
-        gl.BindTexture(GL_TEXTURE_2D, etex_);
-        gl.TexStorage2D(GL_TEXTURE_2D, 1, GL_RGB32F, env->width, env->height);
-        gl.PixelStorei(GL_UNPACK_ALIGNMENT, 4);
-        gl.TexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, env->width, env->height, GL_RGB, GL_FLOAT, env->rgb.data());
-        gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-        gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-        gl.BindTexture(GL_TEXTURE_2D, 0);
-        env_ = env;
-    }
-
-    /// The shadow map (DEPTH32F, size x size, no colour), remade when the size changes.
-    void ensure_shadow_map(int size) {
-        if (sfbo_ != 0 && size == shadow_size_) return;
-        const Api& gl = *api_;
-        release_shadow_map();
-        shadow_size_ = size;
-        gl.GenTextures(1, &stex_);
-        gl.BindTexture(GL_TEXTURE_2D, stex_);
-        gl.TexStorage2D(GL_TEXTURE_2D, 1, GL_DEPTH_COMPONENT32F, size, size);
-        gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-        gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-        gl.BindTexture(GL_TEXTURE_2D, 0);
-        gl.GenFramebuffers(1, &sfbo_);
-        gl.BindFramebuffer(GL_FRAMEBUFFER, sfbo_);
-        gl.FramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, stex_, 0);
-        gl.DrawBuffer(GL_NONE);
-        gl.ReadBuffer(GL_NONE);
-        const GLenum status = gl.CheckFramebufferStatus(GL_FRAMEBUFFER);
-        gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
-        if (status != GL_FRAMEBUFFER_COMPLETE) throw std::runtime_error("quadcast::gl::QuadricRenderer: incomplete shadow map");
-    }
-
-    void release_shadow_map() {
-        if (sfbo_ == 0) return;
-        api_->DeleteFramebuffers(1, &sfbo_);
-        api_->DeleteTextures(1, &stex_);
-        sfbo_ = 0;
-    }
-
-    /// The geometry buffer (three RGBA32F targets sharing the depth target), made on first use.
-    void ensure_gbuffer() {
-        if (gfbo_ != 0) return;
-        const Api& gl = *api_;
-        gl.GenTextures(3, gtex_);
-        for (GLuint t : gtex_) {
-            gl.BindTexture(GL_TEXTURE_2D, t);
-            gl.TexStorage2D(GL_TEXTURE_2D, 1, GL_RGBA32F, width_, height_);
-            gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-            gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-        }
-        gl.BindTexture(GL_TEXTURE_2D, 0);
-        gl.GenFramebuffers(1, &gfbo_);
-        gl.BindFramebuffer(GL_FRAMEBUFFER, gfbo_);
-        for (int i = 0; i < 3; ++i) gl.FramebufferTexture2D(GL_FRAMEBUFFER, static_cast<GLenum>(GL_COLOR_ATTACHMENT0 + i), GL_TEXTURE_2D, gtex_[i], 0);
-        gl.FramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, tex_[1], 0);
-        const GLenum bufs[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
-        gl.DrawBuffers(3, bufs);
-        const GLenum status = gl.CheckFramebufferStatus(GL_FRAMEBUFFER);
-        gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
-        if (status != GL_FRAMEBUFFER_COMPLETE) throw std::runtime_error("quadcast::gl::QuadricRenderer: incomplete geometry buffer");
-    }
-
-    void set_uniforms(const Program& p, const render::Camera& cam, const render::Light& light, const render::RenderOptions& opt, int width,
-                      int height) const {
-        const Api& gl = *api_;
-        float view[16], proj[16], rot_inv[9];
-        for (int j = 0; j < 4; ++j)
-            for (int i = 0; i < 4; ++i) { view[j * 4 + i] = cam.view[j][i]; proj[j * 4 + i] = cam.projection[j][i]; }
-        // The inverse of a rotation is its transpose: column j of R^T is row j of R.
-        for (int j = 0; j < 3; ++j)
-            for (int i = 0; i < 3; ++i) rot_inv[j * 3 + i] = cam.view[i][j];
-        const float vz_row[3] = {cam.view[0][2], cam.view[1][2], cam.view[2][2]};
-        const float pz[4] = {cam.projection[2][2], cam.projection[3][2], cam.projection[2][3], cam.projection[3][3]};
-        const auto near = near_corners(cam);
-        gl.UniformMatrix4fv(p.uniform_location("qc_view"), 1, GL_FALSE, view);
-        gl.UniformMatrix4fv(p.uniform_location("qc_projection"), 1, GL_FALSE, proj);
-        gl.UniformMatrix3fv(p.uniform_location("qc_view_rot_inv"), 1, GL_FALSE, rot_inv);
-        gl.Uniform3fv(p.uniform_location("qc_eye"), 1, cam.eye.c);
-        const Mat4<float> vp = render::view_projection(cam);
-        gl.UniformMatrix4fv(p.uniform_location("qc_view_projection"), 1, GL_FALSE, &vp[0][0]);
-        const render::WindowRayTerms rays = render::window_ray_terms(cam, width, height);
-        gl.Uniform3fv(p.uniform_location("qc_ray_base"), 1, rays.base.c);
-        gl.Uniform3fv(p.uniform_location("qc_ray_dx"), 1, rays.dx.c);
-        gl.Uniform3fv(p.uniform_location("qc_ray_dy"), 1, rays.dy.c);
-        gl.Uniform3fv(p.uniform_location("qc_ray_fixed"), 1, rays.fixed.c);
-        gl.Uniform2f(p.uniform_location("qc_viewport"), static_cast<float>(width), static_cast<float>(height));
-        gl.Uniform3fv(p.uniform_location("qc_near_corners"), 4, near.data());
-        gl.Uniform3fv(p.uniform_location("qc_vz_row"), 1, vz_row);
-        gl.Uniform4fv(p.uniform_location("qc_pz"), 1, pz);
-        gl.Uniform3fv(p.uniform_location("qc_light_dir"), 1, light.direction.c);
-        gl.Uniform3fv(p.uniform_location("qc_light_color"), 1, light.color.c);
-        gl.Uniform4fv(p.uniform_location("qc_material"), 1, opt.material.c);
-        if (opt.environment) {
-            gl.BindTextureUnit(4, etex_);
-            gl.Uniform1f(p.uniform_location("qc_reflectivity"), opt.reflectivity);
-        }
-        if (stage_ == FragmentStage::brute_force) {
-            const Mat4<float> ivp = inverse_view_projection(cam);
-            gl.UniformMatrix4fv(p.uniform_location("qc_inv_view_proj"), 1, GL_FALSE, &ivp[0][0]);
-        }
-    }
-
-    /// (projection view)^-1 in double (`host_inverse`), rounded to float.
-    static Mat4<float> inverse_view_projection(const render::Camera& cam) {
-        return cast<float>(host_inverse(cast<double>(cam.projection) * cast<double>(cam.view)));
-    }
-
-    /// View-space corners of the near-plane rectangle (for primitives whose bounding sphere
-    /// contains the eye), slightly inside the near plane so they are not clipped.
-    static std::array<float, 12> near_corners(const render::Camera& cam) {
-        Mat4<double> P{};
-        for (int j = 0; j < 4; ++j) for (int i = 0; i < 4; ++i) P[j][i] = static_cast<double>(cam.projection[j][i]);
-        std::array<float, 12> r{};
-        const double ndc[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
-        for (int k = 0; k < 4; ++k) {
-            if (cam.orthographic) {
-                // x_ndc = P00 x + P30, y_ndc = P11 y + P31; z just in front of the near plane.
-                const double x = (ndc[k][0] - P[3][0]) / P[0][0], y = (ndc[k][1] - P[3][1]) / P[1][1];
-                const double zn = (-1.0 - P[3][2]) / P[2][2];
-                r[static_cast<std::size_t>(3 * k)] = static_cast<float>(x);
-                r[static_cast<std::size_t>(3 * k + 1)] = static_cast<float>(y);
-                r[static_cast<std::size_t>(3 * k + 2)] = static_cast<float>(zn * 0.999);
-            } else {
-                // Perspective: z_ndc = -1 at z = -n with n = P32 / (P22 - 1); x_ndc = (P00 x + P20 z) / -z.
-                const double n = P[3][2] / (P[2][2] - 1.0) * 1.001;
-                const double z = -n;
-                const double x = (ndc[k][0] * n - P[2][0] * z) / P[0][0], y = (ndc[k][1] * n - P[2][1] * z) / P[1][1];
-                r[static_cast<std::size_t>(3 * k)] = static_cast<float>(x);
-                r[static_cast<std::size_t>(3 * k + 1)] = static_cast<float>(y);
-                r[static_cast<std::size_t>(3 * k + 2)] = static_cast<float>(z);
-            }
-        }
-        return r;
-    }
-
-    void ensure_fbo(int w, int h) {
-        if (fbo_ != 0 && w == width_ && h == height_) return;
-        release_fbo();
-        const Api& gl = *api_;
-        width_ = w;
-        height_ = h;
-        fbo_ = make_framebuffer(gl, w, h, tex_, "quadcast::gl::QuadricRenderer");
-    }
-
-    void release_fbo() {
-        if (gfbo_ != 0) {
-            api_->DeleteFramebuffers(1, &gfbo_);
-            api_->DeleteTextures(3, gtex_);
-            gfbo_ = 0;
-        }
-        if (fbo_ == 0) return;
-        api_->DeleteFramebuffers(1, &fbo_);
-        api_->DeleteTextures(2, tex_);
-        fbo_ = 0;
-    }
-
-    const Api* api_;
-    GLuint vao_ = 0, ssbo_ = 0, planes_ = 0, indices_ = 0, fbo_ = 0, tex_[2] = {0, 0};
-    GLuint gfbo_ = 0, gtex_[3] = {0, 0, 0};  ///< geometry buffer of deferred shading
-    GLuint sfbo_ = 0, stex_ = 0;             ///< shadow map
-    GLuint etex_ = 0;                        ///< environment map
-    std::shared_ptr<const render::EnvironmentMap> env_;  ///< the map in etex_
-    int shadow_size_ = 0;
-    render::Camera light_cam_;
-    std::vector<render::Primitive> prims_;   ///< for fitting the light camera
-    std::vector<ScenePass*> passes_;
-    int width_ = 0, height_ = 0;
-    std::size_t count_ = 0;
-    std::pair<std::uint32_t, std::uint32_t> ranges_[render::variant_count] = {};
-    GeneratedPrograms programs_{*api_, "quadcast::gl::QuadricRenderer"};
-    FragmentStage stage_ = FragmentStage::incremental;
-    bool depth_test_ = true;
-    GLuint query_ = 0, fs_query_ = 0;
-    std::uint64_t samples_passed_ = 0, fragment_invocations_ = 0;
-    bool count_fragments_ = false;
+    class Impl;
+    std::unique_ptr<Impl> impl_;
 };
 
 }  // namespace quadcast::gl
