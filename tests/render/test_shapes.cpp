@@ -341,9 +341,30 @@ TEST_CASE("hand-made primitives are validated by the renderers") {
     Primitive bad_spec = sphere(vec3(0.0f, 0.0f, 0.0f), 1.0f);
     bad_spec.material.specular = 3.0f;
     CHECK(message(bad_spec).find("material.specular") != std::string::npos);
+    // A closed quadric marked as a slab bulges out between its end sections: the tight screen
+    // rectangle (the hull of the end sections) would crop it.
+    auto as_slab = [](Primitive p, float h) {
+        p.variant = Variant::slab;
+        p.shape.half_length = h;
+        p.shape.caps[0] = p.shape.caps[1] = 1.0f;
+        return p;
+    };
+    CHECK(message(as_slab(sphere(vec3(0.0f, 0.0f, 0.0f), 1.0f), 0.5f)).find("primitive 1: variant slab: the surface bulges out between its end sections") != std::string::npos);
+    CHECK(message(as_slab(small, 0.9f)).find("bulges out") != std::string::npos);
+    // A hyperboloid of one sheet narrows between its ends (x^2 + y^2 - z^2 = 0.25), a cone whose
+    // apex lies inside the slab is two cones: both lie inside the hull of their end sections.
+    Mat3<float> saddle = identity<float, 3>();
+    saddle[2][2] = -1.0f;
+    Primitive hyperboloid = as_slab(sphere(vec3(0.0f, 0.0f, 0.0f), 1.2f), 0.6f);
+    hyperboloid.shape.q = quadric_from_abc(saddle, vec3(0.0f, 0.0f, 0.0f), -0.25f);
+    CHECK(message(hyperboloid).empty());
+    Primitive double_cone = hyperboloid;
+    double_cone.shape.q = quadric_from_abc(saddle, vec3(0.0f, 0.0f, 0.0f), 0.0f);
+    CHECK(message(double_cone).empty());
     // Valid ones pass.
     CHECK(message(cylinder(vec3(0.0f, 0.0f, 0.0f), vec3(0.0f, 0.0f, 1.0f), 0.5f, 1.0f)).empty());
     CHECK(message(shapes::cone({0, 0, 0}, {0, 0, 1}, 0.3f, false)).empty());
+    CHECK(message(shapes::cylinder({0, 0, 0}, {0.3, -2, 1}, 0.2f, shapes::Ends::first)).empty());
 }
 
 namespace {

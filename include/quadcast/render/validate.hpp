@@ -119,9 +119,15 @@ inline double ellipsoid_extent(std::size_t index, const Mat4<float>& q) {
 }
 
 /// Largest |x| over the slab part {f <= 0, |a.x| <= h} of a quadric whose cross-sections in the
-/// slab are bounded (cylinders, cones, hyperboloids): on the two cap planes the section is an
-/// ellipse (or empty, or a point), sampled at 720 points; the surface between is ruled, so the
-/// caps bound it.
+/// slab are bounded (cylinders, cones, hyperboloids of one sheet): on the two cap planes the
+/// section is an ellipse (or empty, or a point), sampled at 720 points. Every section of the
+/// slab is an ellipse of the same shape (the in-plane part M of A) whose centre moves linearly
+/// along the axis and whose squared size rho(z) = -k0(z) is quadratic in z, so the slab lies in
+/// the convex hull of its two end sections (which the renderers' tight rectangles and this extent
+/// use) exactly when sqrt(rho) stays below the straight line between its end values; since
+/// rho(z) - line(z)^2 = (alpha - s^2)(z^2 - h^2), that holds everywhere when it holds at z = 0.
+/// A quadric that bulges out between its ends (a sphere or an ellipsoid marked as a slab) is
+/// rejected: use the ellipsoid variant.
 inline double slab_extent(std::size_t index, const Mat4<float>& q, const Vec3<float>& axis_f, double h) {
     M3 a{};
     V3 b{};
@@ -131,8 +137,9 @@ inline double slab_extent(std::size_t index, const Mat4<float>& q, const Vec3<fl
     // An orthonormal basis (e1, e2) of the cap planes.
     const V3 t = std::fabs(ax[0]) < 0.9 ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 1.0, 0.0);
     const V3 e1 = normalize(cross(ax, t)), e2 = cross(ax, e1);
-    double best = 0;
-    for (double z : {h, -h}) {
+    double best = 0, size[3] = {0, 0, 0};  // sqrt(rho) at h, -h, 0
+    int which = 0;
+    for (double z : {h, -h, 0.0}) {
         // f(z a + s e1 + t e2) = [s t] M [s t]^T + 2 m.[s t] + k
         const V3 p0 = z * ax;
         const V3 ap0 = a * p0, ae1 = a * e1, ae2 = a * e2;
@@ -148,6 +155,8 @@ inline double slab_extent(std::size_t index, const Mat4<float>& q, const Vec3<fl
         const double det = m00 * m11 - m01 * m01;
         const double s0 = -(m11 * m0 - m01 * m1) / det, t0 = -(m00 * m1 - m01 * m0) / det;
         const double k0 = k + m0 * s0 + m1 * t0;
+        size[which++] = std::sqrt(std::max(-k0, 0.0));
+        if (z == 0.0) break;
         best = std::max(best, length(p0 + s0 * e1 + t0 * e2));
         if (k0 >= 0) continue;  // empty or a point
         // Unit eigenvectors of M (v0 for l0, v1 = its perpendicular).
@@ -165,6 +174,9 @@ inline double slab_extent(std::size_t index, const Mat4<float>& q, const Vec3<fl
             best = std::max(best, length(p0 + ss * e1 + tt * e2));
         }
     }
+    if (size[2] > 0.5 * (size[0] + size[1]) + 1e-4 * std::max(size[0], size[1]))
+        fail(index, "variant slab: the surface bulges out between its end sections (section size " + num(size[2]) + " halfway, " + num(size[0]) + " and " +
+                        num(size[1]) + " at the ends; the slab variants draw cylinders, cones and hyperboloids of one sheet; a closed quadric is variant ellipsoid)");
     return best;
 }
 
