@@ -16,7 +16,11 @@ TEST_CASE("the brute-force fragment stage renders the image of the incremental o
     using Stage = gl::QuadricRenderer::FragmentStage;
     gl::OsmesaContext ctx;
     gl::QuadricRenderer r(ctx.api());
-    r.set_primitives(qc_render_test::mixed_scene(5, {60, 30, 10, false, false}));
+    // The brute-force stage has no sphere variant: the scene's spheres go through the ellipsoid one.
+    std::vector<Primitive> prims = qc_render_test::mixed_scene(5, {60, 30, 10, false, false});
+    for (Primitive& p : prims)
+        if (p.variant == Variant::sphere) p.variant = Variant::ellipsoid;
+    r.set_primitives(prims);
     Light light;
     light.direction = vec3(-0.4f, -0.6f, -1.0f);
     const Camera cam = qc_render_test::look_at(vec3(0.5, 1.0, 8.0), vec3(0.0, 0.0, 0.0), vec3(0.0, 1.0, 0.0), qc_render_test::perspective(50, 240.0 / 180.0, 1, 20));

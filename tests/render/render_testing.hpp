@@ -11,6 +11,7 @@
 #include "quadcast/quadric.hpp"
 #include "quadcast/render/cpu_renderer.hpp"
 #include "quadcast/render/types.hpp"
+#include "quadcast/shapes.hpp"
 
 namespace qc_render_test {
 
@@ -103,64 +104,45 @@ inline Camera look_at(const Vec3<double>& eye_d, const Vec3<double>& target, con
 
 // Primitives ------------------------------------------------------------------------------------
 
-inline Primitive sphere(const Vec3<float>& c, float r, Vec3<float> color = vec3(0.8f, 0.3f, 0.2f)) {
-    Primitive p{};
-    p.shape.q = quadric_from_abc(identity<float, 3>(), vec3(0.0f, 0.0f, 0.0f), -(r * r));
-    p.shape.center = c;
-    p.shape.radius = r;
-    p.shape.axis = vec3(0.0f, 0.0f, 1.0f);
-    p.shape.half_length = std::numeric_limits<float>::infinity();
-    p.variant = Variant::ellipsoid;
-    p.color = color;
-    return p;
+// Every primitive of the tests is built by the core's shapes (quadcast/shapes.hpp), the one
+// construction path of the CLI and host apps; tests that need a hand-made primitive change the
+// fields of one afterwards.
+
+inline glm::vec3 gv(const Vec3<float>& v) { return {v[0], v[1], v[2]}; }
+inline quadcast::shapes::Appearance look(const Vec3<float>& color) {
+    quadcast::shapes::Appearance a;
+    a.color = gv(color);
+    return a;
 }
 
-/// Capped circular cylinder: |x - (x.a) a|^2 <= r^2, |x.a| <= h (A = I - a a^T, c = -r^2).
+/// A sphere (the sphere variant).
+inline Primitive sphere(const Vec3<float>& c, float r, Vec3<float> color = vec3(0.8f, 0.3f, 0.2f)) {
+    return quadcast::shapes::sphere(gv(c), r, look(color));
+}
+
+/// Capped circular cylinder around centre c along the unit axis: radius r, half-length h.
 inline Primitive cylinder(const Vec3<float>& c, const Vec3<float>& axis, float r, float h,
                           Vec3<float> color = vec3(0.2f, 0.6f, 0.9f)) {
-    Primitive p{};
-    Mat3<float> A = identity<float, 3>();
-    for (int j = 0; j < 3; ++j)
-        for (int i = 0; i < 3; ++i) A[j][i] = A[j][i] - axis[i] * axis[j];
-    p.shape.q = quadric_from_abc(A, vec3(0.0f, 0.0f, 0.0f), -(r * r));
-    p.shape.center = c;
-    p.shape.radius = std::sqrt(r * r + h * h) * 1.0001f;
-    p.shape.axis = axis;
-    p.shape.half_length = h;
-    p.variant = Variant::slab;
-    p.color = color;
-    return p;
+    const glm::vec3 gc = gv(c), ga = gv(axis);
+    return quadcast::shapes::cylinder(gc - h * ga, gc + h * ga, r, quadcast::shapes::Ends::both, look(color));
 }
 
-/// Ellipsoid with orthonormal axes e0, e1, e2 and semi-axes s: A = sum e_i e_i^T / s_i^2, c = -1.
+/// Ellipsoid with orthonormal axes e0, e1, e2 and semi-axes s (the ellipsoid variant).
 inline Primitive ellipsoid(const Vec3<float>& c, const Vec3<double> e[3], const Vec3<double>& s,
                            Vec3<float> color = vec3(0.4f, 0.8f, 0.3f)) {
-    Mat3<double> A = zero_mat<double, 3, 3>();
+    glm::mat3 axes(0.0f);
     for (int k = 0; k < 3; ++k)
-        for (int j = 0; j < 3; ++j)
-            for (int i = 0; i < 3; ++i) A[j][i] += e[k][i] * e[k][j] / (s[k] * s[k]);
-    Primitive p{};
-    p.shape.q = quadric_from_abc(cast<float>(A), vec3(0.0f, 0.0f, 0.0f), -1.0f);
-    p.shape.center = c;
-    p.shape.radius = float(std::max({s[0], s[1], s[2]}) * 1.0001);
-    p.shape.axis = vec3(0.0f, 0.0f, 1.0f);
-    p.shape.half_length = std::numeric_limits<float>::infinity();
-    p.variant = Variant::ellipsoid;
-    p.color = color;
-    return p;
+        for (int i = 0; i < 3; ++i) axes[k][i] = static_cast<float>(e[k][i] * s[k]);
+    return quadcast::shapes::ellipsoid(gv(c), axes, look(color));
 }
 
-/// A general quadric in local coordinates clipped to its bounding sphere.
+/// A general quadric given in coordinates around c (q_local(x - c)), clipped to the sphere (c, radius).
 inline Primitive bounded(const Vec3<float>& c, const Quadric<float>& q, float radius, Vec3<float> color = vec3(0.9f, 0.9f, 0.2f)) {
-    Primitive p{};
-    p.shape.q = q;
-    p.shape.center = c;
-    p.shape.radius = radius;
-    p.shape.axis = vec3(0.0f, 0.0f, 1.0f);
-    p.shape.half_length = std::numeric_limits<float>::infinity();
-    p.variant = Variant::bounded;
-    p.color = color;
-    return p;
+    const Quadric<double> world = quadcast::translate_to_eye(Quadric<double>{cast<double>(q.q)}, -cast<double>(c));
+    glm::mat4 qw;
+    for (int j = 0; j < 4; ++j)
+        for (int i = 0; i < 4; ++i) qw[j][i] = static_cast<float>(world.q[j][i]);
+    return quadcast::shapes::quadric(qw, quadcast::shapes::SphereBound{gv(c), radius}, look(color));
 }
 
 // Exact pixel rays -------------------------------------------------------------------------------
@@ -348,8 +330,8 @@ inline float depth_at(const Image& img, int x, int y_window) {
     return img.depth[std::size_t(img.height - 1 - y_window) * img.width + x];
 }
 
-/// What `mixed_scene` puts in: random spheres, capped cylinders and sphere-bounded one-sheet
-/// hyperboloids (closed, slab and bounded variants) in [-2, 2]^3.
+/// What `mixed_scene` puts in: random spheres and ellipsoids (half each), capped cylinders and
+/// sphere-bounded one-sheet hyperboloids (sphere, ellipsoid, slab and bounded variants) in [-2, 2]^3.
 struct MixedScene {
     int spheres = 60, cylinders = 30, hyperboloids = 10;
     bool colored = false;          ///< a random colour per object (else each helper's default)
@@ -364,7 +346,16 @@ inline std::vector<Primitive> mixed_scene(unsigned seed, const MixedScene& m = {
     for (int i = 0; i < m.spheres; ++i) {
         const Vec3<float> p = vec3(u(rng), u(rng), u(rng));
         const float r = s(rng);
-        out.push_back(sphere(p, r, color(vec3(0.8f, 0.3f, 0.2f))));
+        if (i % 2 == 0) {
+            out.push_back(sphere(p, r, color(vec3(0.8f, 0.3f, 0.2f))));
+            continue;
+        }
+        // Every other one an ellipsoid (the ellipsoid variant) of random orientation.
+        const Vec3<double> e0 = random_dir(rng);
+        const Vec3<double> t = std::fabs(e0[0]) < 0.9 ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 1.0, 0.0);
+        const Vec3<double> e1 = normalize(cross(e0, t)), e2 = cross(e0, e1);
+        const Vec3<double> axes[3] = {e0, e1, e2};
+        out.push_back(ellipsoid(p, axes, vec3(double(r), 0.6 * double(r), 1.1 * double(r)), color(vec3(0.4f, 0.8f, 0.3f))));
     }
     for (int i = 0; i < m.cylinders; ++i) {
         const Vec3<double> a = random_dir(rng);

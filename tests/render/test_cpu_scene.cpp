@@ -30,11 +30,18 @@ struct CylinderCompare {
     int covered = 0, mismatches = 0, boundary = 0, unexplained = 0;
 };
 
+/// The radius of a circular cylinder primitive as the renderer sees it: its quadric is
+/// s (I - a a^T) x.x - s r^2 (shapes normalise it by some s > 0), so r^2 = -2 Q33 / trace(A).
+LD cylinder_radius(const Primitive& p) {
+    const LD tr = LD(p.shape.q.q[0][0]) + LD(p.shape.q.q[1][1]) + LD(p.shape.q.q[2][2]);
+    return std::sqrt(-2 * LD(p.shape.q.q[3][3]) / tr);
+}
+
 CylinderCompare compare_cylinder(const Image& img, const Camera& cam, const Primitive& p, LD tol) {
     CylinderCompare out;
     const ExactCamera ex(cam, img.width, img.height);
     const V3 c = ld(p.shape.center), a = ld(p.shape.axis);
-    const LD r = std::sqrt(-LD(p.shape.q.q[3][3])), h = LD(p.shape.half_length);
+    const LD r = cylinder_radius(p), h = LD(p.shape.half_length);
     for (int y = 0; y < img.height; ++y)
         for (int x = 0; x < img.width; ++x) {
             V3 o, d;
@@ -118,7 +125,7 @@ TEST_CASE("a capped cylinder seen from the side is a rectangle (orthographic) an
         const Image img = render_cpu({p}, cam, light, options(w, h), nullptr, 2);
         const V3 cc = ld(p.shape.center) - ld(cam.eye);
         const LD px = w / 2.0L + dot_ld(cc, ld(sx)), py = h / 2.0L + dot_ld(cc, ld(sy));
-        const LD rr = std::sqrt(-LD(p.shape.q.q[3][3])), hh = LD(p.shape.half_length);
+        const LD rr = cylinder_radius(p), hh = LD(p.shape.half_length);
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x) {
                 const LD dx = std::fabs(x + 0.5L - px), dy = std::fabs(y + 0.5L - py);
