@@ -13,29 +13,6 @@
 using namespace quadcast;
 using namespace quadcast::render;
 
-namespace {
-
-struct Diff {
-    long coverage = 0, coverage_diff = 0, color_diff = 0;
-    double max_depth = 0;
-};
-
-Diff compare(const Image& a, const Image& b) {
-    Diff d;
-    for (std::size_t i = 0; i < a.depth.size(); ++i) {
-        const bool ca = a.depth[i] < 1.0f, cb = b.depth[i] < 1.0f;
-        d.coverage += ca;
-        if (ca != cb) { ++d.coverage_diff; continue; }
-        if (!ca) continue;
-        d.max_depth = std::max(d.max_depth, static_cast<double>(std::fabs(a.depth[i] - b.depth[i])));
-        for (int c = 0; c < 3; ++c)
-            if (std::abs(int(a.rgba[i * 4 + c]) - int(b.rgba[i * 4 + c])) > 1) { ++d.color_diff; break; }
-    }
-    return d;
-}
-
-}  // namespace
-
 TEST_CASE("the GL renderer draws what the CPU reference draws") {
     gl::OsmesaContext ctx;
     gl::QuadricRenderer r(ctx.api());
@@ -54,13 +31,13 @@ TEST_CASE("the GL renderer draws what the CPU reference draws") {
             r.draw(cam, light, o);
             const Image g = r.read();
             const Image c = render_cpu(prims, cam, light, o);
-            const Diff d = compare(g, c);
+            const qc_render_test::ImageDiff d = qc_render_test::image_diff(g, c, 1);
             std::printf("[gl vs cpu] %s, culling %s: %ld covered px, %ld coverage differences, %ld colour differences > 1 LSB, max depth difference %.3g\n",
-                        ortho ? "orthographic" : "perspective", cull ? "on" : "off", d.coverage, d.coverage_diff, d.color_diff, d.max_depth);
-            CHECK(d.coverage > 5000);
+                        ortho ? "orthographic" : "perspective", cull ? "on" : "off", d.covered, d.coverage_diff, d.color_diff, d.max_depth);
+            CHECK(d.covered > 5000);
             // Silhouette pixels may flip (interpolated rays differ from per-pixel rays by rounding).
-            CHECK(d.coverage_diff <= d.coverage / 200);
-            CHECK(d.color_diff <= d.coverage / 100);
+            CHECK(d.coverage_diff <= d.covered / 200);
+            CHECK(d.color_diff <= d.covered / 100);
             CHECK(d.max_depth < 1e-4);
         }
 }

@@ -18,25 +18,6 @@ namespace shapes = quadcast::shapes;
 
 namespace {
 
-struct Diff {
-    long covered = 0, coverage_diff = 0, color_diff = 0;
-    double max_depth = 0;
-};
-
-Diff compare(const Image& a, const Image& b) {
-    Diff d;
-    for (std::size_t i = 0; i < a.depth.size(); ++i) {
-        const bool ca = a.depth[i] < 1.0f, cb = b.depth[i] < 1.0f;
-        d.covered += cb;
-        if (ca != cb) { ++d.coverage_diff; continue; }
-        if (!ca) continue;
-        d.max_depth = std::max(d.max_depth, static_cast<double>(std::fabs(a.depth[i] - b.depth[i])));
-        for (int c = 0; c < 3; ++c)
-            if (std::abs(int(a.rgba[i * 4 + c]) - int(b.rgba[i * 4 + c])) > 1) { ++d.color_diff; break; }
-    }
-    return d;
-}
-
 /// Open and capped cylinders and cones, spheres and ellipsoids with random materials, twisted quads.
 std::vector<Primitive> shape_scene(unsigned seed) {
     std::mt19937 rng(seed);
@@ -80,7 +61,7 @@ TEST_CASE("GL draws the public shapes as the CPU reference does (caps, materials
             r.draw(cam, light, o);
             const Image g = r.read();
             const Image c = render_cpu(prims, cam, light, o);
-            const Diff d = compare(g, c);
+            const ImageDiff d = image_diff(c, g, 1);
             std::printf("[shapes gl vs cpu] %s, %s: %ld covered px, %ld coverage differences, %ld colour differences > 1 LSB, max depth difference %.3g\n",
                         ortho ? "orthographic" : "perspective", deferred ? "deferred" : "forward", d.covered, d.coverage_diff, d.color_diff, d.max_depth);
             CHECK(d.covered > 5000);
@@ -115,7 +96,7 @@ TEST_CASE("primitives whose bounding quad lies beyond the far plane or before th
             r.draw(cam, light, o);
             const Image g = r.read();
             const Image c = render_cpu(prims, cam, light, o);
-            const Diff d = compare(g, c);
+            const ImageDiff d = image_diff(c, g, 1);
             std::printf("[depth range] %s, culling %s: %ld covered px (CPU), %ld coverage differences, max depth difference %.3g\n",
                         ortho ? "orthographic" : "perspective", cull ? "on" : "off", d.covered, d.coverage_diff, d.max_depth);
             CHECK(d.covered > 3000);

@@ -15,28 +15,6 @@ using namespace quadcast::render;
 
 namespace {
 
-struct SphereDiff {
-    long coverage = 0, coverage_diff = 0, over_1 = 0;
-    int max = 0;
-    double max_depth = 0;
-};
-
-SphereDiff sphere_diff(const Image& a, const Image& b) {
-    SphereDiff d;
-    for (std::size_t i = 0; i < a.depth.size(); ++i) {
-        const bool ca = a.depth[i] < 1.0f, cb = b.depth[i] < 1.0f;
-        d.coverage += ca;
-        if (ca != cb) { ++d.coverage_diff; continue; }
-        if (!ca) continue;
-        d.max_depth = std::max(d.max_depth, static_cast<double>(std::fabs(a.depth[i] - b.depth[i])));
-        int m = 0;
-        for (int c = 0; c < 3; ++c) m = std::max(m, std::abs(int(a.rgba[i * 4 + c]) - int(b.rgba[i * 4 + c])));
-        d.max = std::max(d.max, m);
-        d.over_1 += m > 1;
-    }
-    return d;
-}
-
 /// n random spheres in [-2, 2]^3 (radius 0.05 to 0.6, overlapping), as the sphere or the closed variant.
 std::vector<render::Primitive> random_spheres(unsigned seed, int n, Variant variant) {
     std::mt19937 rng(seed);
@@ -77,16 +55,16 @@ TEST_CASE("sphere variant: the GL renderer draws what the CPU reference draws, a
                 closed_r.draw(cam, light, o);
                 const Image gc = closed_r.read();
                 const Image c = render_cpu(spheres, cam, light, o);
-                const SphereDiff d = sphere_diff(g, c), dv = sphere_diff(g, gc);
+                const qc_render_test::ImageDiff d = qc_render_test::image_diff(g, c, 1), dv = qc_render_test::image_diff(g, gc);
                 std::printf("[sphere variant] %s, culling %s, %s: %ld covered px; GL vs CPU: %ld coverage differences, %ld px > 1 LSB (max %d), "
                             "max depth difference %.3g; vs the closed variant: %ld coverage differences, max %d LSB\n",
-                            ortho ? "orthographic" : "perspective", cull ? "on" : "off", deferred ? "deferred" : "forward", d.coverage,
-                            d.coverage_diff, d.over_1, d.max, d.max_depth, dv.coverage_diff, dv.max);
-                CHECK(d.coverage > 20000);
+                            ortho ? "orthographic" : "perspective", cull ? "on" : "off", deferred ? "deferred" : "forward", d.covered,
+                            d.coverage_diff, d.color_diff, d.max_lsb, d.max_depth, dv.coverage_diff, dv.max_lsb);
+                CHECK(d.covered > 20000);
                 CHECK(d.coverage_diff == 0);
-                CHECK(d.over_1 <= d.coverage / 1000);
+                CHECK(d.color_diff <= d.covered / 1000);
                 CHECK(d.max_depth < 1e-5);
-                CHECK(dv.coverage_diff <= d.coverage / 1000);
+                CHECK(dv.coverage_diff <= d.covered / 1000);
             }
 }
 
@@ -107,8 +85,8 @@ TEST_CASE("sphere variant: an eye inside a sphere sees its inside only with cull
         r.draw(cam, light, o);
         const Image g = r.read();
         const Image c = render_cpu(std::vector<render::Primitive>{big}, cam, light, o);
-        const SphereDiff d = sphere_diff(g, c);
-        CHECK(d.coverage == (cull ? 0 : 160 * 120));
+        const qc_render_test::ImageDiff d = qc_render_test::image_diff(g, c, 1);
+        CHECK(d.covered == (cull ? 0 : 160 * 120));
         CHECK(d.coverage_diff == 0);
     }
 }

@@ -133,22 +133,7 @@ inline std::vector<BoundsScene> bounds_scenes(int width, int height) {
     return out;
 }
 
-/// Pixels whose coverage differs and covered pixels whose colour or depth differs at all.
-struct ImageDiff {
-    long covered = 0, coverage_diff = 0, color_diff = 0, depth_diff = 0;
-};
-
-inline ImageDiff image_diff(const Image& a, const Image& b) {
-    ImageDiff d;
-    for (std::size_t i = 0; i < a.depth.size(); ++i) {
-        const bool ca = a.depth[i] < 1.0f, cb = b.depth[i] < 1.0f;
-        d.covered += ca;
-        if (ca != cb) { ++d.coverage_diff; continue; }
-        if (a.depth[i] != b.depth[i]) ++d.depth_diff;
-        for (int c = 0; c < 4; ++c)
-            if (a.rgba[i * 4 + c] != b.rgba[i * 4 + c]) { ++d.color_diff; break; }
-    }
-    return d;
-}
+using qc_render_test::ImageDiff;
+using qc_render_test::image_diff;
 
 }  // namespace qc_bounds_test

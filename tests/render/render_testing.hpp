@@ -330,6 +330,33 @@ inline float depth_at(const Image& img, int x, int y_window) {
     return img.depth[std::size_t(img.height - 1 - y_window) * img.width + x];
 }
 
+/// Two images of the same view compared pixel by pixel: `covered` counts a's covered pixels;
+/// pixels covered in one only are coverage differences; where both are covered, a pixel whose
+/// RGBA differs by more than `lsb` in some channel is a colour difference, one whose depth
+/// differs at all a depth difference; max_lsb and max_depth are the largest differences there.
+struct ImageDiff {
+    long covered = 0, coverage_diff = 0, color_diff = 0, depth_diff = 0;
+    int max_lsb = 0;
+    double max_depth = 0;
+};
+
+inline ImageDiff image_diff(const Image& a, const Image& b, int lsb = 0) {
+    ImageDiff d;
+    for (std::size_t i = 0; i < a.depth.size(); ++i) {
+        const bool ca = a.depth[i] < 1.0f, cb = b.depth[i] < 1.0f;
+        d.covered += ca;
+        if (ca != cb) { ++d.coverage_diff; continue; }
+        if (!ca) continue;
+        d.depth_diff += a.depth[i] != b.depth[i];
+        d.max_depth = std::max(d.max_depth, static_cast<double>(std::fabs(a.depth[i] - b.depth[i])));
+        int m = 0;
+        for (int c = 0; c < 4; ++c) m = std::max(m, std::abs(int(a.rgba[i * 4 + c]) - int(b.rgba[i * 4 + c])));
+        d.max_lsb = std::max(d.max_lsb, m);
+        d.color_diff += m > lsb;
+    }
+    return d;
+}
+
 /// What `mixed_scene` puts in: random spheres and ellipsoids (half each), capped cylinders and
 /// sphere-bounded one-sheet hyperboloids (sphere, ellipsoid, slab and bounded variants) in [-2, 2]^3.
 struct MixedScene {
