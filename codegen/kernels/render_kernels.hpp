@@ -6,6 +6,7 @@
 
 #include "kernels/common.hpp"
 #include "quadcast/bounds.hpp"
+#include "quadcast/occlusion.hpp"
 #include "quadcast/raycast.hpp"
 #include "quadcast/render/variant_key.hpp"
 #include "quadcast/shading.hpp"
@@ -429,6 +430,128 @@ struct NeighbourTexelKernel {
         put(in, p, std::floor(uniform(rng, -1.0f, 1.999f)));
         put(in, p, vec2(1023.0f, 767.0f));
     }
+};
+
+/// NDC rectangles around the viewport, some of them outside it, for the pixel-span kernels.
+inline void pixel_span_inputs(std::mt19937& rng, std::span<float> in) {
+    std::size_t p = 0;
+    const Vec2<float> a = vec2(uniform(rng, -1.5f, 1.5f), uniform(rng, -1.5f, 1.5f));
+    put(in, p, a);
+    put(in, p, a + vec2(uniform(rng, 0.0f, 0.5f), uniform(rng, 0.0f, 0.5f)));
+    put(in, p, vec2(1024.0f, 768.0f));
+}
+
+/// Occlusion culling, per occluder: its view distance (`view_distance`) and whether its disk
+/// may be written (`occluder_usable`).
+struct OccluderDepthKernel {
+    static constexpr const char* name = "occluder_depth";
+    static constexpr const char* source = "quadcast::view_distance, quadcast::occluder_usable (quadcast/occlusion.hpp)";
+    static constexpr const char* summary = "an occluder's view distance and whether it lies between the near and far planes";
+    template <class IO> static void run(IO& io) {
+        using T = typename IO::T;
+        const Vec3<T> vz_row = io.template vec<3>("vz_row");
+        const T vz_t = io.scalar("vz_t");
+        const Vec3<T> c = io.template vec<3>("c");
+        const T r_in = io.scalar("r_in"), near = io.scalar("near"), far = io.scalar("far");
+        const T s = view_distance(vz_row, vz_t, c);
+        io.out("s", s);
+        io.out("usable", occluder_usable(s, r_in, near, far));
+    }
+    static void generate(std::mt19937& rng, std::span<float> in) {
+        std::size_t p = 0;
+        put(in, p, random_direction(rng));
+        put(in, p, uniform(rng, -60.0f, 60.0f));
+        put(in, p, random_point(rng, 60.0f));
+        put(in, p, uniform(rng, 0.0f, 5.0f));
+        put(in, p, uniform(rng, 0.0f, 10.0f));
+        put(in, p, uniform(rng, 20.0f, 150.0f));
+    }
+};
+
+/// Occlusion culling, per primitive: the nearest view distance of its bounding sphere
+/// (`view_distance`, `nearest_distance`).
+struct NearestDistanceKernel {
+    static constexpr const char* name = "nearest_distance";
+    static constexpr const char* source = "quadcast::view_distance, quadcast::nearest_distance (quadcast/occlusion.hpp)";
+    static constexpr const char* summary = "the nearest view distance of a primitive's bounding sphere";
+    template <class IO> static void run(IO& io) {
+        using T = typename IO::T;
+        const Vec3<T> vz_row = io.template vec<3>("vz_row");
+        const T vz_t = io.scalar("vz_t");
+        const Vec3<T> c = io.template vec<3>("c");
+        const T radius = io.scalar("radius");
+        io.out("s", nearest_distance(view_distance(vz_row, vz_t, c), radius));
+    }
+    static void generate(std::mt19937& rng, std::span<float> in) {
+        std::size_t p = 0;
+        put(in, p, random_direction(rng));
+        put(in, p, uniform(rng, -60.0f, 60.0f));
+        put(in, p, random_point(rng, 60.0f));
+        put(in, p, uniform(rng, 0.0f, 5.0f));
+    }
+};
+
+/// Occlusion culling, per occluder: the NDC ellipse its central disk projects to (`occluder_ellipse`).
+struct OccluderEllipseKernel {
+    static constexpr const char* name = "occluder_ellipse";
+    static constexpr const char* source = "quadcast::occluder_ellipse (quadcast/occlusion.hpp)";
+    static constexpr const char* summary = "the NDC ellipse an occluder's disk perpendicular to the viewing axis projects to";
+    template <class IO> static void run(IO& io) {
+        using T = typename IO::T;
+        const Mat4<T> vp = io.template mat<4>("view_projection");
+        const Vec3<T> c = io.template vec<3>("c"), right = io.template vec<3>("right"), up = io.template vec<3>("up");
+        const T r_in = io.scalar("r_in");
+        Vec2<T> centre{}, axes{};
+        occluder_ellipse(vp, c, right, up, r_in, centre, axes);
+        io.out("centre", centre);
+        io.out("axes", axes);
+    }
+    static void generate(std::mt19937& rng, std::span<float> in) {
+        std::size_t p = 0;
+        put_view_projection(rng, in, p);
+        put(in, p, random_point(rng, 60.0f));
+        const Mat3<float> r = random_rotation(rng);
+        put(in, p, r[0]);
+        put(in, p, r[1]);
+        put(in, p, uniform(rng, 0.01f, 3.0f));
+    }
+};
+
+/// Occlusion culling, per pixel of an occluder: whether its centre falls in the occluder's
+/// ellipse (`ellipse_covers`).
+struct EllipseCoversKernel {
+    static constexpr const char* name = "ellipse_covers";
+    static constexpr const char* source = "quadcast::ellipse_covers (quadcast/occlusion.hpp)";
+    static constexpr const char* summary = "whether a pixel centre falls in an NDC ellipse";
+    template <class IO> static void run(IO& io) {
+        using T = typename IO::T;
+        const Vec2<T> frag = io.template vec<2>("frag"), viewport = io.template vec<2>("viewport");
+        const Vec2<T> centre = io.template vec<2>("centre"), axes = io.template vec<2>("axes");
+        io.out("covered", ellipse_covers(frag, viewport, centre, axes));
+    }
+    static void generate(std::mt19937& rng, std::span<float> in) {
+        std::size_t p = 0;
+        const Vec2<float> frag = vec2(std::floor(uniform(rng, 0.0f, 1023.999f)) + 0.5f, std::floor(uniform(rng, 0.0f, 767.999f)) + 0.5f);
+        const Vec2<float> axes = vec2(uniform(rng, 0.002f, 0.2f), uniform(rng, 0.002f, 0.2f));
+        const Vec2<float> ndc = vec2(frag[0] / 512.0f - 1.0f, frag[1] / 384.0f - 1.0f);
+        put(in, p, frag);
+        put(in, p, vec2(1024.0f, 768.0f));
+        put(in, p, ndc + vec2(axes[0] * uniform(rng, -1.3f, 1.3f), axes[1] * uniform(rng, -1.3f, 1.3f)));
+        put(in, p, axes);
+    }
+};
+
+/// Occlusion culling: the pixels an NDC rectangle can reach, clamped to the viewport (`pixel_span`).
+struct PixelSpanKernel {
+    static constexpr const char* name = "pixel_span";
+    static constexpr const char* source = "quadcast::pixel_span (quadcast/occlusion.hpp)";
+    static constexpr const char* summary = "the pixels whose centres an NDC rectangle can hold";
+    template <class IO> static void run(IO& io) {
+        using T = typename IO::T;
+        const Vec2<T> lo = io.template vec<2>("lo"), hi = io.template vec<2>("hi"), viewport = io.template vec<2>("viewport");
+        io.out("span", pixel_span(lo, hi, viewport));
+    }
+    static void generate(std::mt19937& rng, std::span<float> in) { pixel_span_inputs(rng, in); }
 };
 
 /// Soft shadows: a pixel's shadow-map texel position and light depth (`shadow_coord`).

@@ -19,6 +19,7 @@
 #include "quadcast/gl/program.hpp"
 #include "quadcast/gl/validate.hpp"
 #include "quadcast/render/light_camera.hpp"
+#include "quadcast/render/occluder.hpp"
 #include "quadcast/render/record.hpp"
 #include "quadcast/render/window_ray.hpp"
 
@@ -36,6 +37,10 @@ public:
         api.GenBuffers(1, &ssbo_);
         api.GenBuffers(1, &planes_);
         api.GenBuffers(1, &indices_);
+        api.GenBuffers(1, &occluders_);
+        api.GenBuffers(1, &depths_);
+        api.GenBuffers(1, &visible_);
+        api.GenBuffers(1, &commands_);
     }
     ~Impl() {
         if (etex_) api_->DeleteTextures(1, &etex_);
@@ -44,6 +49,10 @@ public:
         api_->DeleteBuffers(1, &ssbo_);
         api_->DeleteBuffers(1, &planes_);
         api_->DeleteBuffers(1, &indices_);
+        api_->DeleteBuffers(1, &occluders_);
+        api_->DeleteBuffers(1, &depths_);
+        api_->DeleteBuffers(1, &visible_);
+        api_->DeleteBuffers(1, &commands_);
         api_->DeleteVertexArrays(1, &vao_);
         if (query_) api_->DeleteQueries(1, &query_);
         if (fs_query_) api_->DeleteQueries(1, &fs_query_);
@@ -86,13 +95,16 @@ public:
         gl::validate_primitives(prims);
         std::vector<PrimitiveRecord> records;
         std::vector<float> planes;  // 16 floats per primitive of the planes variant, in record order
+        std::vector<float> occluders;  // per record its centre and render::occluder_radius
         records.reserve(prims.size());
+        occluders.reserve(prims.size());
         prims_ = prims;
         for (int v = 0; v < render::variant_count; ++v) {
             ranges_[v] = {static_cast<std::uint32_t>(records.size()), 0};
             for (const auto& p : prims) {
                 if (static_cast<int>(p.variant) != v) continue;
                 records.push_back(render::pack_record(p));
+                occluders.insert(occluders.end(), {p.shape.center[0], p.shape.center[1], p.shape.center[2], render::occluder_radius(p)});
                 if (p.variant == render::Variant::planes)
                     for (const auto& pl : p.shape.planes) planes.insert(planes.end(), pl.c, pl.c + 4);
             }
@@ -104,8 +116,11 @@ public:
         api_->BindBuffer(GL_SHADER_STORAGE_BUFFER, ssbo_);
         api_->BufferData(GL_SHADER_STORAGE_BUFFER, static_cast<GLsizeiptr>(std::max<std::size_t>(1, records.size()) * sizeof(PrimitiveRecord)),
                          records.empty() ? nullptr : records.data(), GL_STATIC_DRAW);
+        upload(occluders_, occluders);
+        upload(visible_, std::vector<std::uint32_t>(std::max<std::size_t>(1, records.size())));
         api_->BindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
         count_ = records.size();
+        drawn_ = count_;
         // Two triangles per bounding quad over its 4 corners, so the vertex stage runs 4 times
         // per primitive (the post-transform cache reuses the shared corners).
         std::vector<std::uint32_t> idx(6 * std::max<std::size_t>(1, count_));
@@ -176,7 +191,7 @@ public:
             if (!fs_query_) gl.GenQueries(1, &fs_query_);
             gl.BeginQuery(0x82F4 /* GL_FRAGMENT_SHADER_INVOCATIONS */, fs_query_);
         }
-        draw_primitives(cam, light, opt, deferred);
+        draw_primitives(cam, light, opt, deferred, opt.occlusion_culling);
         gl.EndQuery(GL_SAMPLES_PASSED);
         if (count_fragments_) gl.EndQuery(0x82F4);
         GLuint64 passed = 0;
@@ -194,12 +209,28 @@ public:
         gl.BindVertexArray(0);
         gl.Finish();
         check_errors(gl, "QuadricRenderer::draw");
+        if (opt.occlusion_culling && count_ > 0) {
+            // The primitives the cull pass kept: the index counts of the indirect commands.
+            std::uint32_t cmds[5 * render::variant_count];
+            gl.BindBuffer(GL_DRAW_INDIRECT_BUFFER, commands_);
+            gl.GetBufferSubData(GL_DRAW_INDIRECT_BUFFER, 0, sizeof cmds, cmds);
+            gl.BindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
+            drawn_ = 0;
+            for (int v = 0; v < render::variant_count; ++v) drawn_ += cmds[5 * v] / 6;
+        } else {
+            drawn_ = count_;
+        }
     }
+
+    std::size_t drawn_primitives() const { return drawn_; }
 
     /// Draws every variant's primitives with the forward or geometry-buffer programs into the
     /// bound framebuffer, then the other passes (`add_pass`).
-    void draw_primitives(const render::Camera& cam, const render::Light& light, const render::RenderOptions& opt, bool deferred) {
+    void draw_primitives(const render::Camera& cam, const render::Light& light, const render::RenderOptions& opt, bool deferred, bool cull_pass = false) {
         const Api& gl = *api_;
+        GLint viewport[4] = {0, 0, 1, 1};
+        gl.GetIntegerv(GL_VIEWPORT, viewport);
+        if (cull_pass) run_cull_pass(cam, viewport[2], viewport[3]);
         // The bounding geometry (quads, tetrahedron faces) is a stand-in: the fragment stage
         // computes the depth and keeps only hits in [0, 1]. Without depth clamping GL would clip
         // the stand-in itself at the near and far planes, losing the visible part of a primitive
@@ -208,8 +239,8 @@ public:
         gl.BindVertexArray(vao_);
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, ssbo_);
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, planes_);
-        GLint viewport[4] = {0, 0, 1, 1};
-        gl.GetIntegerv(GL_VIEWPORT, viewport);
+        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, visible_);
+        if (cull_pass) gl.BindBuffer(GL_DRAW_INDIRECT_BUFFER, commands_);
         for (int v = 0; v < render::variant_count; ++v) {
             if (ranges_[v].second == 0) continue;
             const auto variant = static_cast<render::Variant>(v);
@@ -221,8 +252,14 @@ public:
             gl.Uniform1i(prog.uniform_location("qc_cull"), cull && !cam.orthographic ? 1 : 0);
             gl.Uniform1ui(prog.uniform_location("qc_first"), ranges_[v].first);
             gl.Uniform1i(prog.uniform_location("qc_caps"), variant == render::Variant::slab ? 1 : 0);
-            gl.DrawElements(GL_TRIANGLES, static_cast<GLsizei>(6 * ranges_[v].second), GL_UNSIGNED_INT, nullptr);
+            gl.Uniform1i(prog.uniform_location("qc_indirect"), cull_pass ? 1 : 0);
+            if (cull_pass)
+                gl.DrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT, reinterpret_cast<const void*>(static_cast<std::uintptr_t>(20 * v)));
+            else
+                gl.DrawElements(GL_TRIANGLES, static_cast<GLsizei>(6 * ranges_[v].second), GL_UNSIGNED_INT, nullptr);
         }
+        if (cull_pass) gl.BindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
+        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, 0);
         gl.BindTextureUnit(4, 0);
         for (ScenePass* p : passes_) p->draw(cam, light, opt, deferred);
         gl.Disable(GL_DEPTH_CLAMP);
@@ -236,6 +273,101 @@ public:
     std::size_t primitive_count() const { return count_; }
 
 private:
+    template <class V>
+    void upload(GLuint buffer, const V& data) {
+        api_->BindBuffer(GL_SHADER_STORAGE_BUFFER, buffer);
+        api_->BufferData(GL_SHADER_STORAGE_BUFFER, static_cast<GLsizeiptr>(std::max<std::size_t>(1, data.size()) * sizeof(data[0])),
+                         data.empty() ? nullptr : data.data(), GL_DYNAMIC_DRAW);
+    }
+
+    /// The compute passes of occlusion culling (quadcast/occlusion.hpp) for a width x height
+    /// viewport: the occluders' disks into the depth image, the max-depth pyramid over it, then
+    /// per variant the records that can show into the visible list and the variant's indirect
+    /// draw command {6 n, 1, 0, 4 first, 0} (the vertex stage reads slot first + i).
+    void run_cull_pass(const render::Camera& cam, int width, int height) {
+        const Api& gl = *api_;
+        const auto w = static_cast<std::uint32_t>(width), h = static_cast<std::uint32_t>(height);
+        // Pyramid levels down to 1 x 1, level 0 the viewport.
+        std::vector<std::array<std::uint32_t, 3>> levels{{0u, w, h}};
+        while (levels.back()[1] > 1 || levels.back()[2] > 1) {
+            const auto& b = levels.back();
+            levels.push_back({b[0] + b[1] * b[2], (b[1] + 1) / 2, (b[2] + 1) / 2});
+        }
+        const std::size_t texels = levels.back()[0] + 1;
+        if (texels != depth_texels_) {
+            upload(depths_, std::vector<std::uint32_t>(texels));
+            depth_texels_ = texels;
+        }
+        gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, depths_);
+        const std::uint32_t none = 0xffffffffu;
+        gl.ClearBufferData(GL_SHADER_STORAGE_BUFFER, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &none);
+        gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
+        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, ssbo_);
+        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, occluders_);
+        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, depths_);
+        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, visible_);
+        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, commands_);
+        const render::OcclusionRange range = render::occlusion_range(cam);
+        auto common = [&](const Program& p) {
+            gl.UseProgram(p.id());
+            set_uniforms(p, cam, render::Light{}, render::RenderOptions{}, width, height);
+            gl.Uniform1f(p.uniform_location("qc_vz_t"), cam.view[3][2]);
+        };
+        auto groups = [](std::uint32_t n, std::uint32_t size) { return (n + size - 1) / size; };
+        // 1. Occluders (the variants that have them).
+        const Program& occ = programs_.get(render::OcclusionKey{render::OcclusionPass::occluders});
+        common(occ);
+        gl.Uniform2f(occ.uniform_location("qc_occluder_range"), range.near, range.far);
+        const float right[3] = {cam.view[0][0], cam.view[1][0], cam.view[2][0]}, up[3] = {cam.view[0][1], cam.view[1][1], cam.view[2][1]};
+        gl.Uniform3fv(occ.uniform_location("qc_right"), 1, right);
+        gl.Uniform3fv(occ.uniform_location("qc_up"), 1, up);
+        gl.Uniform1ui(occ.uniform_location("qc_max_pixels"), 1u << 18);
+        for (render::Variant v : {render::Variant::sphere, render::Variant::ellipsoid, render::Variant::slab}) {
+            const auto& r = ranges_[static_cast<int>(v)];
+            if (r.second == 0) continue;
+            gl.Uniform1ui(occ.uniform_location("qc_first"), r.first);
+            gl.Uniform1ui(occ.uniform_location("qc_count"), r.second);
+            gl.DispatchCompute(groups(r.second, 64), 1, 1);
+        }
+        gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        // 2. The max-depth pyramid.
+        const Program& pyr = programs_.get(render::OcclusionKey{render::OcclusionPass::pyramid});
+        gl.UseProgram(pyr.id());
+        for (std::size_t l = 1; l < levels.size(); ++l) {
+            gl.Uniform3ui(pyr.uniform_location("qc_src"), levels[l - 1][0], levels[l - 1][1], levels[l - 1][2]);
+            gl.Uniform3ui(pyr.uniform_location("qc_dst"), levels[l][0], levels[l][1], levels[l][2]);
+            gl.DispatchCompute(groups(levels[l][1], 8), groups(levels[l][2], 8), 1);
+            gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        }
+        // 3. The cull pass, from zeroed commands.
+        std::uint32_t cmds[5 * render::variant_count] = {};
+        for (int v = 0; v < render::variant_count; ++v) {
+            cmds[5 * v + 1] = 1;
+            cmds[5 * v + 3] = 4 * ranges_[v].first;
+        }
+        gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, commands_);
+        gl.BufferData(GL_SHADER_STORAGE_BUFFER, sizeof cmds, cmds, GL_DYNAMIC_DRAW);
+        gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
+        const Program& cull = programs_.get(render::OcclusionKey{render::OcclusionPass::cull});
+        common(cull);
+        gl.Uniform1i(cull.uniform_location("qc_occlusion"), 1);
+        std::vector<GLuint> lv;
+        for (const auto& l : levels) lv.insert(lv.end(), l.begin(), l.end());
+        const int level_count = static_cast<int>(std::min<std::size_t>(levels.size(), 16));
+        gl.Uniform3uiv(cull.uniform_location("qc_levels"), level_count, lv.data());
+        gl.Uniform1i(cull.uniform_location("qc_level_count"), level_count);
+        for (int v = 0; v < render::variant_count; ++v) {
+            if (ranges_[v].second == 0) continue;
+            gl.Uniform1ui(cull.uniform_location("qc_first"), ranges_[v].first);
+            gl.Uniform1ui(cull.uniform_location("qc_count"), ranges_[v].second);
+            gl.Uniform1i(cull.uniform_location("qc_bound"), static_cast<int>(render::rect_bound(static_cast<render::Variant>(v))));
+            gl.Uniform1ui(cull.uniform_location("qc_command_at"), static_cast<GLuint>(5 * v));
+            gl.DispatchCompute(groups(ranges_[v].second, 64), 1, 1);
+        }
+        gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+        for (int b = 2; b <= 5; ++b) gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, static_cast<GLuint>(b), 0);
+    }
+
     /// The program of variant `v`: forward (with `env`, environment reflection) or, with
     /// `gbuffer`, the geometry-buffer stages (which do not shade), for the fragment stage set by
     /// `set_fragment_stage` (compiled on first use).
@@ -449,6 +581,8 @@ private:
     GLuint gfbo_ = 0, gtex_[3] = {0, 0, 0};  ///< geometry buffer of deferred shading
     GLuint sfbo_ = 0, stex_ = 0;             ///< shadow map
     GLuint etex_ = 0;                        ///< environment map
+    GLuint occluders_ = 0, depths_ = 0, visible_ = 0, commands_ = 0;  ///< occlusion culling
+    std::size_t depth_texels_ = 0, drawn_ = 0;
     std::shared_ptr<const render::EnvironmentMap> env_;  ///< the map in etex_
     int shadow_size_ = 0;
     render::Camera light_cam_;
@@ -484,5 +618,6 @@ void QuadricRenderer::draw_primitives(const render::Camera& cam, const render::L
 }
 render::Image QuadricRenderer::read() const { return impl_->read(); }
 std::size_t QuadricRenderer::primitive_count() const { return impl_->primitive_count(); }
+std::size_t QuadricRenderer::drawn_primitives() const { return impl_->drawn_primitives(); }
 
 }  // namespace quadcast::gl

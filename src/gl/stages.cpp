@@ -76,6 +76,12 @@ const char* bound_uniforms =
     "uniform int qc_bound;             // quadcast::RectBound of the variant; 0: the bounding-sphere quad\n"
     "uniform vec2 qc_viewport;\nuniform uint qc_first;\n";
 
+/// The visible primitives the occlusion cull pass lists (slot -> record index), read by both
+/// vertex stages when the draw is indirect.
+const char* visible_glsl =
+    "layout(std430, binding = 4) readonly buffer qc_Visible { uint qc_visible[]; };\n"
+    "uniform bool qc_indirect;\n\n";
+
 /// The vertex stage of the general variants: the bounding geometry (`bound_glsl`) and per-quadric
 /// culling (`primitive_cull`, perspective cameras).
 Stage vertex_shader(bool ortho) {
@@ -92,9 +98,13 @@ Stage vertex_shader(bool ortho) {
     m << bound_uniforms << "uniform vec3 qc_eye;\nuniform bool qc_cull;\nuniform bool qc_caps;   // the variant closes a slab with caps\n\n"
          "flat out uint qc_prim;\n\n";
     m << fns.str();
-    m << "// Indexed draw: vertex 4 i + k is corner k of primitive qc_first + i (two triangles share two).\n"
+    m << visible_glsl;
+    m << "// Indexed draw: vertex 4 i + k is corner k of primitive qc_first + i (two triangles share two);\n"
+         "// with qc_indirect (occlusion culling) of the visible primitive in slot i (the draw's base vertex\n"
+         "// is 4 qc_first).\n"
          "void main()\n{\n"
-         "    uint prim = qc_first + uint(gl_VertexID) / 4u;\n"
+         "    uint slot = uint(gl_VertexID) / 4u;\n"
+         "    uint prim = qc_indirect ? qc_visible[slot] : qc_first + slot;\n"
          "    int k = gl_VertexID % 4;\n"
          "    qc_Primitive p = qc_prims[prim];\n"
          "    mat4 q = qc_record_quadric(p);\n"
@@ -124,9 +134,13 @@ Stage sphere_vertex_shader(bool ortho) {
     m << bound_uniforms << "\n"
          "flat out float qc_radius;\nflat out vec3 qc_center;\nflat out vec3 qc_prim_color;\nflat out vec2 qc_prim_material;  // specular, shininess\n\n";
     m << fns.str();
-    m << "// Indexed draw: vertex 4 i + k is corner k of primitive qc_first + i (two triangles share two).\n"
+    m << visible_glsl;
+    m << "// Indexed draw: vertex 4 i + k is corner k of primitive qc_first + i (two triangles share two);\n"
+         "// with qc_indirect (occlusion culling) of the visible primitive in slot i (the draw's base vertex\n"
+         "// is 4 qc_first).\n"
          "void main()\n{\n"
-         "    uint prim = qc_first + uint(gl_VertexID) / 4u;\n"
+         "    uint slot = uint(gl_VertexID) / 4u;\n"
+         "    uint prim = qc_indirect ? qc_visible[slot] : qc_first + slot;\n"
          "    int k = gl_VertexID % 4;\n"
          "    qc_Primitive p = qc_prims[prim];\n"
       << bound_glsl(proj, false)
@@ -338,7 +352,162 @@ Stage deferred_shader(bool silhouettes, bool shadows, bool env) {
 const char* passthrough_fragment =
     "layout(location = 0) out vec4 qc_color;\n\nvoid main()\n{\n    qc_color = vec4(0.5, 0.5, 0.5, 1.0);\n    gl_FragDepth = gl_FragCoord.z;\n}\n";
 
+/// The buffers the occlusion passes share: the occluder ball of each record (its centre and
+/// quadcast::render::occluder_radius, 0: none) and the max-depth pyramid (level 0: the occluder depth of
+/// every pixel, float bits of positive view distances, which order as unsigned integers; no
+/// occluder: 0xffffffff), each level at an offset with its size.
+const char* occlusion_buffers =
+    "layout(std430, binding = 2) readonly buffer qc_Occluders { vec4 qc_occluder[]; };  // centre, radius (0: none)\n"
+    "layout(std430, binding = 3) buffer qc_Depths { uint qc_depth[]; };\n"
+    "uniform uint qc_first;   // the variant's first record\n"
+    "uniform uint qc_count;   // its records\n"
+    "uniform vec3 qc_vz_row;  // third row of the world->view rotation\n"
+    "uniform float qc_vz_t;   // the view matrix's z translation\n"
+    "uniform vec2 qc_viewport;\n"
+    "uniform mat4 qc_view_projection;\n";
+
+/// Occlusion pass 1: per record with an occluder ball between the near and far planes
+/// (`occluder_depth`), the pixels whose centres fall in the ellipse its disk projects to
+/// (`occluder_ellipse`, `ellipse_covers`, over `pixel_span` of the ellipse's box) take the disk's
+/// view distance where it is nearer than theirs. Plain loads and stores: any occluder's value is
+/// conservative (quadcast/occlusion.hpp), so a lost race only loosens a pixel.
+Stage occluder_shader() {
+    Stage s;
+    std::ostringstream fns;
+    add_kernel(s, fns, "occluder_depth");
+    add_kernel(s, fns, "occluder_ellipse");
+    add_kernel(s, fns, "pixel_span");
+    add_kernel(s, fns, "ellipse_covers");
+    std::ostringstream m;
+    m << "layout(local_size_x = 64) in;\n\n" << record_glsl << occlusion_buffers
+      << "uniform vec3 qc_right, qc_up;    // first two rows of the world->view rotation\n"
+         "uniform vec2 qc_occluder_range;  // near and far view distances an occluder must lie between\n"
+         "uniform uint qc_max_pixels;     // larger boxes are left out\n\n"
+      << fns.str()
+      << "void main()\n{\n"
+         "    if (gl_GlobalInvocationID.x >= qc_count) return;\n"
+         "    uint prim = qc_first + gl_GlobalInvocationID.x;\n"
+         "    vec4 ball = qc_occluder[prim];\n"
+         "    float r_in = ball.w;\n"
+         "    if (!(r_in > 0.0)) return;\n"
+         "    vec3 c = ball.xyz;\n"
+         "    float s;\n    bool usable;\n"
+         "    qc_occluder_depth(qc_vz_row, qc_vz_t, c, r_in, qc_occluder_range.x, qc_occluder_range.y, s, usable);\n"
+         "    if (!usable) return;\n"
+         "    vec2 centre, axes;\n"
+         "    qc_occluder_ellipse(qc_view_projection, c, qc_right, qc_up, r_in, centre, axes);\n"
+         "    vec4 span;\n"
+         "    qc_pixel_span(centre - axes, centre + axes, qc_viewport, span);\n"
+         "    if (!(span.x <= span.z && span.y <= span.w)) return;\n"
+         "    ivec4 b = ivec4(span);\n"
+         "    if (uint(b.z - b.x + 1) * uint(b.w - b.y + 1) > qc_max_pixels) return;\n"
+         "    uint bits = floatBitsToUint(s);\n"
+         "    int width = int(qc_viewport.x);\n"
+         "    for (int y = b.y; y <= b.w; ++y)\n"
+         "        for (int x = b.x; x <= b.z; ++x) {\n"
+         "            bool covered;\n"
+         "            qc_ellipse_covers(vec2(x, y) + 0.5, qc_viewport, centre, axes, covered);\n"
+         "            if (covered && bits < qc_depth[y * width + x]) qc_depth[y * width + x] = bits;\n"
+         "        }\n"
+         "}\n";
+    s.text = m.str();
+    return s;
+}
+
+/// Occlusion pass 2: one level of the max-depth pyramid, each texel the largest of the (up to)
+/// 2 x 2 texels below it (no arithmetic on depths).
+const char* pyramid_shader =
+    "layout(local_size_x = 8, local_size_y = 8) in;\n\n"
+    "layout(std430, binding = 3) buffer qc_Depths { uint qc_depth[]; };\n"
+    "uniform uvec3 qc_src;  // offset, width, height of the level below\n"
+    "uniform uvec3 qc_dst;  // of the level written\n\n"
+    "void main()\n{\n"
+    "    uvec2 t = gl_GlobalInvocationID.xy;\n"
+    "    if (t.x >= qc_dst.y || t.y >= qc_dst.z) return;\n"
+    "    uint x0 = 2u * t.x, y0 = 2u * t.y, x1 = min(x0 + 1u, qc_src.y - 1u), y1 = min(y0 + 1u, qc_src.z - 1u);\n"
+    "    uint m = max(max(qc_depth[qc_src.x + y0 * qc_src.y + x0], qc_depth[qc_src.x + y0 * qc_src.y + x1]),\n"
+    "                 max(qc_depth[qc_src.x + y1 * qc_src.y + x0], qc_depth[qc_src.x + y1 * qc_src.y + x1]));\n"
+    "    qc_depth[qc_dst.x + t.y * qc_dst.y + t.x] = m;\n"
+    "}\n";
+
+/// Occlusion pass 3: per record, its rectangle (`primitive_rect_*` of its variant's bound); a
+/// record whose rectangle is tight and holds no pixel centre of the viewport (`pixel_span`), or
+/// whose nearest view distance (`nearest_distance`) lies beyond the largest occluder depth over
+/// its pixels (read from the pyramid level where they span at most 4 x 4 texels), is culled; the
+/// others are listed in qc_visible from the variant's first slot, counted in its indirect draw
+/// command (6 indices each).
+Stage cull_shader() {
+    Stage s;
+    std::ostringstream fns;
+    add_kernel(s, fns, "primitive_rect_sphere");
+    add_kernel(s, fns, "primitive_rect_ellipsoid");
+    add_kernel(s, fns, "primitive_rect_slab");
+    add_kernel(s, fns, "pixel_span");
+    add_kernel(s, fns, "nearest_distance");
+    std::ostringstream m;
+    m << "layout(local_size_x = 64) in;\n\n" << record_glsl << occlusion_buffers
+      << "layout(std430, binding = 4) writeonly buffer qc_Visible { uint qc_visible[]; };\n"
+         "layout(std430, binding = 5) buffer qc_Commands { uint qc_command[]; };  // DrawElementsIndirectCommand per variant\n"
+         "uniform int qc_bound;        // quadcast::RectBound of the variant\n"
+         "uniform uint qc_command_at;  // the variant's command (uint offset)\n"
+         "uniform bool qc_occlusion;   // test against the pyramid (else only the frustum)\n"
+         "uniform uvec3 qc_levels[16]; // offset, width, height of each pyramid level\n"
+         "uniform int qc_level_count;\n\n"
+      << fns.str()
+      << "void main()\n{\n"
+         "    if (gl_GlobalInvocationID.x >= qc_count) return;\n"
+         "    uint prim = qc_first + gl_GlobalInvocationID.x;\n"
+         "    qc_Primitive p = qc_prims[prim];\n"
+         "    mat4 q = qc_record_quadric(p);\n"
+         "    vec3 c = qc_record_center(p);\n"
+         "    vec2 lo, hi;\n    bool tight, visible;\n"
+         "    if (qc_bound == 1)\n"
+         "        qc_primitive_rect_ellipsoid(qc_view_projection, q, c, qc_record_radius(p), qc_record_axis(p), qc_record_half_length(p), qc_viewport, lo, hi, tight, visible);\n"
+         "    else if (qc_bound == 2)\n"
+         "        qc_primitive_rect_slab(qc_view_projection, q, c, qc_record_radius(p), qc_record_axis(p), qc_record_half_length(p), qc_viewport, lo, hi, tight, visible);\n"
+         "    else\n"
+         "        qc_primitive_rect_sphere(qc_view_projection, q, c, qc_record_radius(p), qc_record_axis(p), qc_record_half_length(p), qc_viewport, lo, hi, tight, visible);\n"
+         "    if (!visible) return;  // entirely behind the eye plane\n"
+         "    if (tight) {\n"
+         "        vec4 span;\n"
+         "        qc_pixel_span(lo, hi, qc_viewport, span);\n"
+         "        if (span.x > span.z || span.y > span.w) return;  // no pixel centre of the viewport\n"
+         "        float nearest;\n"
+         "        qc_nearest_distance(qc_vz_row, qc_vz_t, c, qc_record_radius(p), nearest);\n"
+         "        if (qc_occlusion && nearest > 0.0) {\n"
+         "            uvec4 b = uvec4(span);\n"
+         "            int level = 0;\n"
+         "            while (level + 1 < qc_level_count && ((b.z >> level) - (b.x >> level) > 3u || (b.w >> level) - (b.y >> level) > 3u)) ++level;\n"
+         "            uvec3 l = qc_levels[level];\n"
+         "            uint farthest = 0u;\n"
+         "            for (uint y = b.y >> level; y <= (b.w >> level); ++y)\n"
+         "                for (uint x = b.x >> level; x <= (b.z >> level); ++x) farthest = max(farthest, qc_depth[l.x + y * l.y + x]);\n"
+         "            if (floatBitsToUint(nearest) > farthest) return;  // behind every occluder over its pixels\n"
+         "        }\n"
+         "    }\n"
+         "    uint slot = atomicAdd(qc_command[qc_command_at], 6u) / 6u;\n"
+         "    qc_visible[qc_first + slot] = prim;\n"
+         "}\n";
+    s.text = m.str();
+    return s;
+}
+
 }  // namespace
+
+StageText occlusion_stage(const render::OcclusionKey& k) {
+    switch (k.pass) {
+    case render::OcclusionPass::occluders:
+        return stage_text(StageText::Kind::compute, "qc_occluders.comp", occluder_shader(), "occlusion culling: occluder disks into the depth image");
+    case render::OcclusionPass::pyramid: {
+        Stage p;
+        p.text = pyramid_shader;
+        return stage_text(StageText::Kind::compute, "qc_depth_pyramid.comp", p, "occlusion culling: one level of the max-depth pyramid");
+    }
+    case render::OcclusionPass::cull:
+        break;
+    }
+    return stage_text(StageText::Kind::compute, "qc_cull.comp", cull_shader(), "occlusion culling: frustum and occlusion test, the visible list and indirect draws");
+}
 
 std::vector<StageText> program_stages(const render::QuadricKey& key) {
     render::check(key);

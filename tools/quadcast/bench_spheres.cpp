@@ -88,11 +88,12 @@ void run_bounds_bench(const BoundsBenchOptions& o) {
     const char* what = o.sticks ? "random capped sticks (length 0.05, radius 0.005) in the unit cube" : "random spheres in the unit cube, r = 0.3 N^(-1/3)";
     std::printf("quadcast bench %s: %dx%d, 30 degree perspective from (0.5, 0.5, 3), %s\n", o.sticks ? "sticks" : "spheres", o.width, o.height, what);
     std::printf("%s\n", ctx.info().summary().c_str());
-    std::printf("medians of %d interleaved frames; 'quad': tight bounds off (bounding-sphere quads), 'tight': on; per covered pixel: fragments\n"
+    std::printf("medians of %d interleaved frames; 'quad': bounding-sphere quads, no cull pass; 'tight': tight rectangles, no cull pass;\n"
+                "'cull': tight rectangles and the occlusion cull pass; 'drawn': primitives the cull pass keeps; per covered pixel: fragments\n"
                 "rasterised ('rast') and fragment-shader invocations ('fs', llvmpipe: 16 per 4x4 block shaded)\n", o.frames);
-    std::printf("%10s %9s %9s %9s %10s %10s %10s %9s %9s %9s", o.sticks ? "sticks" : "spheres", "covered", "quad ms", "tight ms", "speed-up", "quad rast", "tight rast",
-                "quad fs", "tight fs", "fs ratio");
-    if (o.compare) std::printf(" %16s %14s", "closed tight ms", "sphere/closed");
+    std::printf("%10s %9s %8s %8s %8s %10s %10s %7s %6s %6s %6s %7s %7s %7s", o.sticks ? "sticks" : "spheres", "covered", "quad ms", "tight ms", "cull ms",
+                "quad/cull", "tight/cull", "drawn", "q rast", "t rast", "c rast", "q fs", "t fs", "c fs");
+    if (o.compare) std::printf(" %16s %14s", "closed cull ms", "sphere/closed");
     std::printf("\n");
     gl::QuadricRenderer r(ctx.api());
     std::unique_ptr<gl::QuadricRenderer> general;  // --compare: the closed-quadric variant
@@ -104,11 +105,15 @@ void run_bounds_bench(const BoundsBenchOptions& o) {
     cam.eye = vec3(0.5f, 0.5f, 3.0f);
     render::Light light;
     light.direction = vec3(-0.4f, -0.6f, -1.0f);
-    render::RenderOptions on, off;
-    on.width = off.width = o.width;
-    on.height = off.height = o.height;
-    on.culling = off.culling = o.culling;
-    off.tight_bounds = false;
+    render::RenderOptions modes[3];  // quad, tight, cull
+    for (render::RenderOptions& m : modes) {
+        m.width = o.width;
+        m.height = o.height;
+        m.culling = o.culling;
+        m.occlusion_culling = false;
+    }
+    modes[0].tight_bounds = false;
+    modes[2].occlusion_culling = true;
     auto time_frame = [&](gl::QuadricRenderer& renderer, const render::RenderOptions& ro) {
         const auto t0 = std::chrono::steady_clock::now();
         renderer.draw(cam, light, ro);
@@ -118,36 +123,38 @@ void run_bounds_bench(const BoundsBenchOptions& o) {
         r.set_primitives(o.sticks ? random_sticks(n, 7) : random_spheres(n, 7, render::Variant::sphere));
         if (general) general->set_primitives(random_spheres(n, 7, render::Variant::ellipsoid));
         // Count the fragments of one frame each (the queries are not in the timed frames)
+        double frag[3], rast[3];
         r.set_count_fragments(true);
-        r.draw(cam, light, off);
-        const double frag_off = static_cast<double>(r.fragment_invocations());
-        r.draw(cam, light, on);
-        const double frag_on = static_cast<double>(r.fragment_invocations());
+        for (int m = 0; m < 3; ++m) {
+            r.draw(cam, light, modes[m]);
+            frag[m] = static_cast<double>(r.fragment_invocations());
+        }
+        const std::size_t drawn = r.drawn_primitives();
         const long covered = std::max(1L, covered_pixels(r));
         r.set_count_fragments(false);
         r.set_fragment_stage(gl::QuadricRenderer::FragmentStage::passthrough);
         r.set_depth_test(false);
-        r.draw(cam, light, off);
-        const double rast_off = static_cast<double>(r.samples_passed());
-        r.draw(cam, light, on);
-        const double rast_on = static_cast<double>(r.samples_passed());
+        for (int m = 0; m < 3; ++m) {
+            r.draw(cam, light, modes[m]);
+            rast[m] = static_cast<double>(r.samples_passed());
+        }
         r.set_depth_test(true);
         r.set_fragment_stage(gl::QuadricRenderer::FragmentStage::incremental);
-        r.draw(cam, light, on);  // warm-up
-        if (general) general->draw(cam, light, on);  // warm-up
+        r.draw(cam, light, modes[2]);  // warm-up
+        if (general) general->draw(cam, light, modes[2]);  // warm-up
         // Time the frames, interleaved
-        std::vector<double> ms_off, ms_on, ms_general;
+        std::vector<double> ms[3], ms_general;
         for (int i = 0; i < o.frames; ++i) {
-            ms_off.push_back(time_frame(r, off));
-            ms_on.push_back(time_frame(r, on));
-            if (general) ms_general.push_back(time_frame(*general, on));
+            for (int m = 0; m < 3; ++m) ms[m].push_back(time_frame(r, modes[m]));
+            if (general) ms_general.push_back(time_frame(*general, modes[2]));
         }
-        const double m_off = median(ms_off), m_on = median(ms_on);
-        std::printf("%10d %9ld %9.1f %9.1f %9.2fx %10.2f %10.2f %10.2f %9.2f %8.2fx", n, covered, m_off, m_on, m_off / m_on, rast_off / covered,
-                    rast_on / covered, frag_off / covered, frag_on / covered, frag_off / std::max(1.0, frag_on));
+        const double t[3] = {median(ms[0]), median(ms[1]), median(ms[2])};
+        std::printf("%10d %9ld %8.1f %8.1f %8.1f %9.2fx %9.2fx %6.1f%% %6.2f %6.2f %6.2f %7.2f %7.2f %7.2f", n, covered, t[0], t[1], t[2], t[0] / t[2], t[1] / t[2],
+                    100.0 * static_cast<double>(drawn) / std::max(1, n), rast[0] / covered, rast[1] / covered, rast[2] / covered, frag[0] / covered,
+                    frag[1] / covered, frag[2] / covered);
         if (general) {
             const double m_general = median(ms_general);
-            std::printf(" %16.1f %13.2fx", m_general, m_general / m_on);
+            std::printf(" %16.1f %13.2fx", m_general, m_general / t[2]);
         }
         std::printf("\n");
     }
@@ -158,7 +165,7 @@ void run_bounds_bench(const BoundsBenchOptions& o) {
 void add_bench_spheres(CLI::App& bench) {
     auto o = std::make_shared<BoundsBenchOptions>();
     o->counts = {10000, 100000, 1000000};
-    CLI::App* cmd = bench.add_subcommand("spheres", "frame time and fragments per covered pixel of N random spheres (10k / 100k / 1M), tight bounds off and on");
+    CLI::App* cmd = bench.add_subcommand("spheres", "frame time and fragments per covered pixel of N random spheres (10k / 100k / 1M): bounding quads, tight rectangles, occlusion cull pass");
     cmd->add_option("--counts", o->counts, "sphere counts");
     cmd->add_option("--frames", o->frames, "timed frames per count and mode")->check(CLI::Range(1, 1000));
     cmd->add_flag("--compare", o->compare, "also time the general closed-quadric variant, interleaved, and print the ratio");
@@ -167,7 +174,7 @@ void add_bench_spheres(CLI::App& bench) {
     auto s = std::make_shared<BoundsBenchOptions>();
     s->counts = {50000};
     s->sticks = true;
-    CLI::App* sticks = bench.add_subcommand("sticks", "frame time and fragments per covered pixel of N random capped sticks (50k), tight bounds off and on");
+    CLI::App* sticks = bench.add_subcommand("sticks", "frame time and fragments per covered pixel of N random capped sticks (50k): bounding quads, tight rectangles, occlusion cull pass");
     sticks->add_option("--counts", s->counts, "stick counts");
     sticks->add_option("--frames", s->frames, "timed frames per count and mode")->check(CLI::Range(1, 1000));
     sticks->callback([s] { run_bounds_bench(*s); });

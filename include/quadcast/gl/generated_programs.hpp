@@ -35,6 +35,9 @@ public:
     const Program& get(const render::IsoKey& k) {
         return cached(render::key_name(k), [&] { return program_stages(k); });
     }
+    const Program& get(const render::OcclusionKey& k) {
+        return cached(render::key_name(k), [&] { return std::vector<StageText>{occlusion_stage(k)}; });
+    }
     /// The compute pre-pass of the precomputed isosurface stages.
     const Program& compute(render::VolumeScheme s) {
         return cached(std::string("iso-coefficients:") + render::volume_scheme_name(s), [&] { return std::vector<StageText>{coefficient_stage(s)}; });

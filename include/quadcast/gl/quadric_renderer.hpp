@@ -76,6 +76,9 @@ public:
     render::Image read() const;
 
     std::size_t primitive_count() const;
+    /// The primitives the last `draw` drew: with RenderOptions::occlusion_culling those its cull
+    /// pass kept (in the frustum and not hidden by occluders), else all of them.
+    std::size_t drawn_primitives() const;
 
 private:
     class Impl;

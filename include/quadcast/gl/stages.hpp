@@ -29,6 +29,9 @@ std::vector<StageText> program_stages(const render::DeferredKey& k);
 /// The vertex and fragment stages of the isosurface pass.
 std::vector<StageText> program_stages(const render::IsoKey& k);
 
+/// The compute stage of an occlusion-culling pass.
+StageText occlusion_stage(const render::OcclusionKey& k);
+
 /// The compute pre-pass of the `precomputed` isosurface stages (QSS and S31): the coefficients of
 /// every drawn tetrahedron by repeated averaging.
 StageText coefficient_stage(render::VolumeScheme s);

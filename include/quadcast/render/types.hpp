@@ -91,6 +91,11 @@ struct RenderOptions {
     /// ellipsoid, the hull of a slab's two end sections) where that is safe; false: over the quad
     /// around the bounding sphere, as every other variant. The same image either way.
     bool tight_bounds = true;
+    /// GL: a compute cull pass before each frame's primitive pass draws only the primitives that
+    /// can show: those whose screen rectangle holds a pixel of the viewport and is not hidden
+    /// behind the conservative occluders of closed convex primitives (quadcast/occlusion.hpp).
+    /// The picture is the same either way; the CPU reference does not need it.
+    bool occlusion_culling = true;
     Vec3<float> background{{1.0f, 1.0f, 1.0f}};
     /// Ambient and diffuse weights of every primitive's shading ([2], [3]: the specular and
     /// shininess of geometry without a Material of its own, e.g. meshes).

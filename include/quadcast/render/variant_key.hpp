@@ -115,6 +115,15 @@ struct DeferredKey {
     friend constexpr bool operator==(const DeferredKey&, const DeferredKey&) = default;
 };
 
+/// A compute pass of occlusion culling (quadcast::gl::QuadricRenderer, quadcast/occlusion.hpp):
+/// the occluders' disks into the depth image, one level of the max-depth pyramid, or the cull
+/// pass that writes the visible primitives and the indirect draw commands.
+enum class OcclusionPass : std::uint8_t { occluders, pyramid, cull };
+struct OcclusionKey {
+    OcclusionPass pass = OcclusionPass::occluders;
+    friend constexpr bool operator==(const OcclusionKey&, const OcclusionKey&) = default;
+};
+
 /// A program of the isosurface pass; `precomputed` reads the coefficients the compute pre-pass
 /// wrote (QSS and S31 only).
 struct IsoKey {
@@ -146,6 +155,16 @@ inline std::string key_name(const DeferredKey& k) {
 inline std::string key_name(const IsoKey& k) {
     return std::string("iso:") + volume_scheme_name(k.scheme) + (k.ortho ? ":ortho" : ":perspective") + (k.gbuffer ? ":gbuffer" : "") +
            (k.precomputed ? ":precomputed" : "");
+}
+
+inline std::string key_name(const OcclusionKey& k) {
+    const char* pass = k.pass == OcclusionPass::occluders ? "occluders" : k.pass == OcclusionPass::pyramid ? "pyramid" : "cull";
+    return std::string("occlusion:") + pass;
+}
+
+/// Every occlusion key a renderer can ask for.
+inline std::vector<OcclusionKey> all_occlusion_keys() {
+    return {{OcclusionPass::occluders}, {OcclusionPass::pyramid}, {OcclusionPass::cull}};
 }
 
 /// Every canonical quadric key a renderer can ask for.

@@ -139,6 +139,8 @@ struct Options {
     bool culling = true;
     /// "tight_bounds": draw each primitive over its tight screen rectangle (RenderOptions::tight_bounds).
     bool tight_bounds = true;
+    /// "occlusion_culling": the GL renderer's cull pass (RenderOptions::occlusion_culling).
+    bool occlusion_culling = true;
     bool deferred = false;
     bool shadows = false;
     bool silhouettes = false;

@@ -1,0 +1,170 @@
+// tests/gl/test_occlusion_gl.cpp -- the occlusion cull pass changes no pixel (forward, deferred,
+// shadows and outlines, culling on and off, perspective and orthographic, eye inside bounds, near
+// and far planes through occluders), and it culls what is hidden or off screen
+#include <doctest/doctest.h>
+
+#include <cstdio>
+#include <random>
+
+#include "quadcast/gl/osmesa_context.hpp"
+#include "quadcast/gl/quadric_renderer.hpp"
+#include "quadcast/render/cpu_renderer.hpp"
+#include "quadcast/render/occluder.hpp"
+#include "render/bounds_scenes.hpp"
+
+using namespace qc_bounds_test;
+
+namespace {
+
+/// A dense block of spheres, ellipsoids and capped cylinders in [0, 1]^3 (most of them hidden
+/// from outside), with a few open cylinders and cones, which do not occlude.
+std::vector<Primitive> dense_block(unsigned seed, int n) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f), c(0.2f, 1.0f), ang(0.0f, 6.2831853f);
+    const float r = 0.6f * std::cbrt(1.0f / float(n));
+    std::vector<Primitive> out;
+    for (int i = 0; i < n; ++i) {
+        const glm::vec3 p(u(rng), u(rng), u(rng));
+        const shapes::Appearance look{{c(rng), c(rng), c(rng)}, 0.35f, 48.0f};
+        const glm::vec3 d = glm::normalize(glm::vec3(u(rng) - 0.5f, u(rng) - 0.5f, u(rng) - 0.5f) + glm::vec3(0.01f));
+        switch (i % 8) {
+        case 0: case 1: case 2: case 3: out.push_back(shapes::sphere(p, r * (0.6f + u(rng)), look)); break;
+        case 4: {
+            const glm::mat4 rot = glm::rotate(glm::mat4(1.0f), ang(rng), d);
+            out.push_back(shapes::ellipsoid(p, glm::vec3(1.2f * r, 0.7f * r, r), glm::mat3(rot), look));
+            break;
+        }
+        case 5: out.push_back(shapes::cylinder(p - d * r, p + d * r, 0.6f * r, shapes::Ends::both, look)); break;
+        case 6: out.push_back(shapes::cylinder(p - d * r, p + d * r, 0.5f * r, shapes::Ends::none, look)); break;
+        default: out.push_back(shapes::cone(p - d * r, p + d * r, 0.7f * r, true, look)); break;
+        }
+    }
+    return out;
+}
+
+struct Case {
+    std::string name;
+    std::vector<Primitive> prims;
+    Camera camera;
+};
+
+std::vector<Case> occlusion_cases(int w, int h) {
+    using qc_render_test::look_at;
+    const double aspect = double(w) / h;
+    std::vector<Case> out;
+    for (const BoundsScene& b : bounds_scenes(w, h)) out.push_back({b.name, b.prims, b.camera});
+    const std::vector<Primitive> block = dense_block(5, 3000);
+    out.push_back({"dense block, perspective", block, look_at(vec3(0.4, 0.7, 2.6), vec3(0.5, 0.5, 0.5), vec3(0.0, 1.0, 0.0), qc_render_test::perspective(35, aspect, 1, 5))});
+    out.push_back({"dense block, orthographic", block,
+                   look_at(vec3(1.9, 1.2, 2.3), vec3(0.5, 0.5, 0.5), vec3(0.0, 1.0, 0.0), qc_render_test::orthographic(-0.9 * aspect, 0.9 * aspect, -0.9, 0.9, 0.5, 5), true)});
+    // The near plane through the block (occluders cut open show what lies behind them) and the
+    // far plane through it (occluders beyond it are not drawn).
+    out.push_back({"dense block, near plane through it", block, look_at(vec3(0.5, 0.5, 1.6), vec3(0.5, 0.5, 0.5), vec3(0.0, 1.0, 0.0), qc_render_test::perspective(40, aspect, 0.9, 5))});
+    out.push_back({"dense block, far plane through it", block, look_at(vec3(0.5, 0.5, 2.4), vec3(0.5, 0.5, 0.5), vec3(0.0, 1.0, 0.0), qc_render_test::perspective(40, aspect, 1, 2.0))});
+    // The eye inside the block, among the spheres.
+    out.push_back({"dense block, eye inside", block, look_at(vec3(0.5, 0.52, 0.5), vec3(0.9, 0.4, 0.1), vec3(0.0, 1.0, 0.0), qc_render_test::perspective(70, aspect, 0.005, 3))});
+    return out;
+}
+
+}  // namespace
+
+TEST_CASE("the occlusion cull pass changes no pixel of the GL renderer") {
+    gl::OsmesaContext ctx;
+    gl::QuadricRenderer r(ctx.api());
+    const int w = 320, h = 240;
+    Light light;
+    light.direction = vec3(-0.4f, -0.6f, -1.0f);
+    for (const Case& s : occlusion_cases(w, h)) {
+        r.set_primitives(s.prims);
+        for (int mode = 0; mode < 4; ++mode) {
+            RenderOptions o;
+            o.width = w;
+            o.height = h;
+            o.culling = mode != 1;
+            o.deferred = mode == 2;
+            o.shadows = o.silhouettes = mode == 3;
+            o.occlusion_culling = true;
+            r.draw(s.camera, light, o);
+            const Image culled = r.read();
+            const std::size_t drawn = r.drawn_primitives();
+            o.occlusion_culling = false;
+            r.draw(s.camera, light, o);
+            const Image all = r.read();
+            CHECK(r.drawn_primitives() == s.prims.size());
+            const ImageDiff d = image_diff(culled, all);
+            const char* what = mode == 0 ? "forward" : mode == 1 ? "culling off" : mode == 2 ? "deferred" : "shadows + outlines";
+            std::printf("[occlusion] %s, %s: %ld covered px, %ld coverage / %ld colour / %ld depth differences; %zu of %zu primitives drawn\n", s.name.c_str(),
+                        what, d.covered, d.coverage_diff, d.color_diff, d.depth_diff, drawn, s.prims.size());
+            CAPTURE(s.name);
+            CAPTURE(what);
+            CHECK(d.covered > 1000);
+            CHECK(d.coverage_diff == 0);
+            CHECK(d.color_diff == 0);
+            CHECK(d.depth_diff == 0);
+            CHECK(drawn <= s.prims.size());
+            if (s.name == "dense block, perspective" || s.name == "dense block, orthographic") CHECK(drawn < s.prims.size() / 2);
+        }
+    }
+}
+
+TEST_CASE("the occlusion cull pass keeps exactly what shows in front of a large sphere and nothing off screen") {
+    gl::OsmesaContext ctx;
+    gl::QuadricRenderer r(ctx.api());
+    const int w = 200, h = 150;
+    const Camera cam = qc_render_test::look_at(vec3(0.0, 0.0, 6.0), vec3(0.0, 0.0, 0.0), vec3(0.0, 1.0, 0.0), qc_render_test::perspective(40, double(w) / h, 1, 20));
+    std::vector<Primitive> prims{shapes::sphere({0, 0, 0}, 1.5f)};
+    // 50 small spheres behind the large one (hidden: culled), 10 in front of it (kept), 40 beside
+    // the view (off screen: culled).
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<float> u(-0.5f, 0.5f);
+    for (int i = 0; i < 50; ++i) prims.push_back(shapes::sphere({u(rng), u(rng), -2.0f + u(rng)}, 0.1f));
+    for (int i = 0; i < 10; ++i) prims.push_back(shapes::sphere({u(rng), u(rng), 2.5f + u(rng)}, 0.1f));
+    for (int i = 0; i < 40; ++i) prims.push_back(shapes::sphere({12.0f + u(rng), u(rng), u(rng)}, 0.1f));
+    r.set_primitives(prims);
+    Light light;
+    RenderOptions o;
+    o.width = w;
+    o.height = h;
+    r.draw(cam, light, o);
+    CHECK(r.drawn_primitives() == 11);
+    const Image culled = r.read();
+    o.occlusion_culling = false;
+    r.draw(cam, light, o);
+    const ImageDiff d = image_diff(culled, r.read());
+    CHECK(d.coverage_diff == 0);
+    CHECK(d.color_diff == 0);
+    CHECK(d.depth_diff == 0);
+    // A skewed projection (view x mixed into NDC y) gets no occluders: only frustum culling.
+    Camera skew = cam;
+    skew.projection[0][1] = 0.05f;
+    o.occlusion_culling = true;
+    r.draw(skew, light, o);
+    CHECK(r.drawn_primitives() == 61);
+}
+
+TEST_CASE("occluder balls lie inside their solids") {
+    // Independent check: points of the ball (centre + r_in u, u on a sphere grid) are inside the
+    // primitive's quadric (f of the sign it has at the centre, in its local coordinates) for
+    // every occluding shape.
+    std::vector<Primitive> prims = dense_block(9, 64);
+    int occluders = 0;
+    for (const Primitive& p : prims) {
+        const double r_in = quadcast::render::occluder_radius(p);
+        if (r_in == 0) continue;
+        ++occluders;
+        for (int i = 0; i <= 16; ++i)
+            for (int j = 0; j < 32; ++j) {
+                const long double th = 3.14159265358979L * i / 16, ph = 6.28318530717959L * j / 32;
+                const long double x[4] = {r_in * std::sin(th) * std::cos(ph), r_in * std::sin(th) * std::sin(ph), r_in * std::cos(th), 1.0L};
+                long double f = 0;
+                for (int a = 0; a < 4; ++a)
+                    for (int b = 0; b < 4; ++b) f += x[a] * static_cast<long double>(p.shape.q.q[b][a]) * x[b];
+                // slab caps: the ball must stay within the slab too
+                long double along = 0;
+                for (int a = 0; a < 3; ++a) along += x[a] * p.shape.axis[a];
+                CHECK(f / static_cast<long double>(p.shape.q.q[3][3]) > 0);  // the sign of f at the centre: inside
+                if (p.variant == Variant::slab) CHECK(std::fabs(along) < p.shape.half_length);
+            }
+    }
+    CHECK(occluders == 48);  // spheres, ellipsoids and capped cylinders: 6 of every 8
+}
