@@ -48,7 +48,7 @@ std::string origin_of(const scene::Scene& s, std::size_t scene::Scene::Origin::*
     const auto it = std::upper_bound(s.origins.begin(), s.origins.end(), i,
                                      [field](std::size_t v, const scene::Scene::Origin& o) { return v < o.*field; });
     if (it == s.origins.begin()) return "";
-    return scene::format_location(std::prev(it)->where);
+    return scene::format_location(s.location(*std::prev(it)));
 }
 
 }  // namespace
