@@ -31,6 +31,12 @@ struct RenderArgs {
     bool cpu = false, timing = false;
 };
 
+/// Frees a vector's memory.
+template <class T>
+void release(std::vector<T>& v) {
+    std::vector<T>().swap(v);
+}
+
 int write_outputs(const RenderArgs& a, const render::Image& img) {
     try {
         render::write_png_and_pfm(a.output, a.depth, img);
@@ -156,6 +162,15 @@ int run_render(const RenderArgs& a) {
         std::cerr << "quadcast render: " << a.scene << ": " << e.what() << "\n";
         return 1;
     }
+    // The frame holds the primitives now: the scene's own copies (and their origins) are dropped
+    // before the renderers make theirs.
+    release(sc.spheres);
+    release(sc.ellipsoids);
+    release(sc.cylinders);
+    release(sc.cones);
+    release(sc.quadrics);
+    release(sc.quads);
+    release(sc.origins);
     timer.phase("frame");
     for (const auto& n : fr.notes) std::cerr << a.scene << ": note: " << n << "\n";
     std::vector<render::VolumeModel> volumes;
@@ -205,6 +220,9 @@ int run_render(const RenderArgs& a) {
         gl::QuadricRenderer r(ctx->api());
         gl::IsosurfaceRenderer iso(ctx->api());
         r.set_primitives(fr.primitives);
+        // (the renderer keeps its own copy)
+        const std::size_t primitive_count = fr.primitives.size();
+        release(fr.primitives);
         for (const auto& m : volumes) iso.add_volume(m);
         if (!volumes.empty()) r.add_pass(iso);
         timer.phase("upload");
@@ -217,7 +235,7 @@ int run_render(const RenderArgs& a) {
                 r.draw(fr.camera, fr.light, fr.options);
                 ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
             }
-            std::printf("%s: %zu primitives, %dx%d, median frame %.2f ms over %d frames (%s)\n", a.scene.c_str(), fr.primitives.size(), a.width,
+            std::printf("%s: %zu primitives, %dx%d, median frame %.2f ms over %d frames (%s)\n", a.scene.c_str(), primitive_count, a.width,
                         a.height, median(ms), a.frames, ctx->info().renderer.c_str());
             for (std::size_t i = 0; i < iso.volume_count(); ++i) {
                 const gl::IsoDrawStats& s = iso.stats(i);
