@@ -10,22 +10,6 @@ namespace quadcast::scene {
 
 namespace {
 
-/// Line and column (code points, 1-based) of byte `index` in `text`.
-TextPosition position_of(std::string_view text, std::size_t index) {
-    index = std::min(index, text.size());
-    TextPosition p{1, 1};
-    for (std::size_t i = 0; i < index; ++i) {
-        const unsigned char c = static_cast<unsigned char>(text[i]);
-        if (c == '\n') {
-            ++p.line;
-            p.column = 1;
-        } else if ((c & 0xC0) != 0x80) {  // not a UTF-8 continuation byte
-            ++p.column;
-        }
-    }
-    return p;
-}
-
 /// Byte offset of the first bracket that opens level max_json_depth + 1, if any. Brackets inside
 /// strings do not count; the text need not be valid JSON (syntax errors are found later).
 std::optional<std::size_t> too_deep(std::string_view text) {
@@ -47,119 +31,234 @@ std::optional<std::size_t> too_deep(std::string_view text) {
     return std::nullopt;
 }
 
-/// The DOM builder of nlohmann::json, but remembering where a syntax error happened (the
-/// library reports positions only through SAX; number overflow has none in the exception).
-struct PositionedDomParser : nlohmann::detail::json_sax_dom_parser<Json> {
-    using Base = nlohmann::detail::json_sax_dom_parser<Json>;
-    explicit PositionedDomParser(Json& j) : Base(j, true) {}
-    std::size_t chars_read = 0;
-    std::string token;
+/// True for the bytes JSON allows between tokens, and the separators (which have no SAX event).
+bool between_tokens(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == ',' || c == ':'; }
+
+/// Builds a JsonTree from SAX events: the values, and for each the byte offset given with it.
+class TreeBuilder {
+public:
+    void reset(JsonTree& tree) {
+        tree_ = &tree;
+        tree.json = nullptr;
+        tree.nodes.clear();
+        stack_.clear();
+        open_.clear();
+        has_key_ = false;
+    }
+    bool done() const { return stack_.empty(); }
+    std::size_t depth() const { return stack_.size(); }
+    /// The innermost open container (nullptr at the top).
+    const Json* top() const { return stack_.empty() ? nullptr : stack_.back(); }
+    /// Sets the key of the next value of the open object; false when the object has it already.
+    bool key(std::string&& k, std::size_t offset) {
+        const auto& obj = *stack_.back()->get_ptr<const Json::object_t*>();
+        if (obj.find(k) != obj.end()) return false;
+        key_ = std::move(k);
+        key_offset_ = offset;
+        has_key_ = true;
+        return true;
+    }
+    /// Adds a value (a container stays open until `close`).
+    void value(Json&& v, std::size_t offset) {
+        const bool container = v.is_object() || v.is_array();
+        const auto id = static_cast<std::uint32_t>(tree_->nodes.size());
+        tree_->nodes.push_back({offset, has_key_ ? key_offset_ : JsonTree::no_key, id + 1});
+        Json* slot = nullptr;
+        if (stack_.empty()) {
+            tree_->json = std::move(v);
+            slot = &tree_->json;
+        } else if (stack_.back()->is_array()) {
+            auto& arr = *stack_.back()->get_ptr<Json::array_t*>();
+            arr.push_back(std::move(v));
+            slot = &arr.back();
+        } else {
+            // (the key is known to be new: `key` checked it)
+            auto& obj = *stack_.back()->get_ptr<Json::object_t*>();
+            static_cast<std::vector<Json::object_t::value_type>&>(obj).emplace_back(std::move(key_), std::move(v));
+            slot = &obj.back().second;
+        }
+        has_key_ = false;
+        if (container) {
+            stack_.push_back(slot);
+            open_.push_back(id);
+        }
+    }
+    void close() {
+        tree_->nodes[open_.back()].end = static_cast<std::uint32_t>(tree_->nodes.size());
+        stack_.pop_back();
+        open_.pop_back();
+    }
+
+private:
+    JsonTree* tree_ = nullptr;
+    std::vector<Json*> stack_;
+    std::vector<std::uint32_t> open_;
+    std::string key_;
+    std::size_t key_offset_ = 0;
+    bool has_key_ = false;
+};
+
+/// nlohmann's SAX events -> the document's tree, or, for the elements of the streamed array, a
+/// tree per element handed to the callback. Each event's value starts at the first byte after
+/// the previous token that is no white space or separator (the lexer has checked the text up to
+/// there), which gives its offset without a second parser. The first duplicate key stops all
+/// building (only a syntax error can still come first); syntax errors remember where they were.
+class SaxHandler {
+public:
+    using number_integer_t = Json::number_integer_t;
+    using number_unsigned_t = Json::number_unsigned_t;
+    using number_float_t = Json::number_float_t;
+    using string_t = Json::string_t;
+    using binary_t = Json::binary_t;
+
+    SaxHandler(const JsonText& text, JsonTree& tree, std::string_view streamed_key, const JsonDocument::ElementFn& on_element)
+        : text_(text), s_(text.text()), streamed_key_(streamed_key), on_element_(on_element) {
+        main_.reset(tree);
+        if (s_.substr(0, 3) == "\xEF\xBB\xBF") scan_ = 3;  // UTF-8 byte order mark, skipped like nlohmann does
+    }
+
+    std::size_t chars_read = 0;  ///< of the syntax error
+    std::string token;           ///< the lexer's last token at the syntax error
+    std::optional<std::pair<std::string, std::size_t>> duplicate;  ///< pointer and key offset
+
+    bool null() { return scalar(Json(nullptr), Token::literal, 4); }
+    bool boolean(bool b) { return scalar(Json(b), Token::literal, b ? 4 : 5); }
+    bool number_integer(number_integer_t v) { return scalar(Json(v), Token::number); }
+    bool number_unsigned(number_unsigned_t v) { return scalar(Json(v), Token::number); }
+    bool number_float(number_float_t v, const string_t&) { return scalar(Json(v), Token::number); }
+    bool string(string_t& v) { return scalar(Json(std::move(v)), Token::string); }
+    bool binary(binary_t&) { return true; }  // (not produced by the JSON lexer)
+    bool start_object(std::size_t) { return open(Json::object()); }
+    bool start_array(std::size_t) { return open(Json::array()); }
+    bool end_object() { return close(); }
+    bool end_array() { return close(); }
+    bool key(string_t& k) {
+        const std::size_t at = start();
+        scan_ = at + string_length();
+        if (duplicate) return true;
+        TreeBuilder& b = builder();
+        if (in_stream_ && b.done()) return true;  // (cannot happen: the streamed array has no keys)
+        std::string segment = json_pointer_escape(k);
+        if (!in_stream_ && b.depth() == 1) top_key_ = k;
+        if (!b.key(std::move(k), at)) {
+            duplicate = std::make_pair(pointer_of(segment), at);
+            return true;
+        }
+        segments_.back() = std::move(segment);
+        return true;
+    }
     template <class Exception>
     bool parse_error(std::size_t position, const std::string& last_token, const Exception& ex) {
         chars_read = position;
         token = last_token;
         throw ex;
     }
-};
-
-/// Records the position of every value and key of a valid JSON text in a tree of pointer
-/// segments (a node per value: its parent and its own escaped key or index), so the memory is
-/// linear in the text -- a full pointer string per value would grow with depth x key length.
-class PositionScanner {
-public:
-    PositionScanner(std::string_view text, PositionTree& tree) : s_(text), tree_(tree) {}
-
-    /// Returns the pointer of the first duplicate key (and its byte offset), if any.
-    std::optional<std::pair<std::string, std::size_t>> run() {
-        if (s_.substr(0, 3) == "\xEF\xBB\xBF") i_ = 3;  // UTF-8 byte order mark, skipped like nlohmann does
-        tree_.nodes.push_back({});
-        value(0);
-        return duplicate_;
-    }
 
 private:
-    void ws() {
-        while (i_ < s_.size() && (s_[i_] == ' ' || s_[i_] == '\t' || s_[i_] == '\n' || s_[i_] == '\r')) ++i_;
+    std::size_t start() {
+        while (scan_ < s_.size() && between_tokens(s_[scan_])) ++scan_;
+        return scan_;
     }
-    TextPosition here() {
-        // Incremental position_of: the scanner only moves forward.
-        for (; pos_index_ < i_; ++pos_index_) {
-            const unsigned char c = static_cast<unsigned char>(s_[pos_index_]);
-            if (c == '\n') {
-                ++pos_.line;
-                pos_.column = 1;
-            } else if ((c & 0xC0) != 0x80) {
-                ++pos_.column;
-            }
-        }
-        return pos_;
+    std::size_t number_length() const {
+        std::size_t i = scan_;
+        while (i < s_.size() && (std::isdigit(static_cast<unsigned char>(s_[i])) || std::strchr("+-.eE", s_[i]))) ++i;
+        return i - scan_;
     }
-    std::string_view string_token() {
-        const std::size_t b = i_++;
-        while (i_ < s_.size() && s_[i_] != '"') i_ += s_[i_] == '\\' ? 2 : 1;
-        ++i_;
-        return s_.substr(b, i_ - b);
+    std::size_t string_length() const {
+        std::size_t i = scan_ + 1;
+        while (i < s_.size() && s_[i] != '"') i += s_[i] == '\\' ? 2 : 1;
+        return i + 1 - scan_;
     }
-    /// The child `segment` of node `parent` (created; false when it existed already).
-    std::pair<std::uint32_t, bool> child(std::uint32_t parent, const std::string& segment) {
-        const auto id = static_cast<std::uint32_t>(tree_.nodes.size());
-        const auto [it, fresh] = tree_.children.emplace(PositionTree::child_key(parent, segment), id);
-        if (fresh) tree_.nodes.push_back({});
-        return {it->second, fresh};
-    }
-    /// The pointer of `node` (only built for a message).
-    std::string pointer_of(std::uint32_t node, const std::string& last) const { return tree_.pointer(node) + "/" + last; }
+    TreeBuilder& builder() { return in_stream_ ? element_ : main_; }
 
-    void value(std::uint32_t node) {
-        ws();
-        tree_.nodes[node].value = here();
-        if (i_ >= s_.size()) return;
-        const char c = s_[i_];
-        if (c == '{') {
-            ++i_;
-            ws();
-            if (i_ < s_.size() && s_[i_] == '}') {
-                ++i_;
-                return;
-            }
-            while (i_ < s_.size()) {
-                ws();
-                const std::size_t key_start = i_;
-                const TextPosition kp = here();
-                const std::string key = json_pointer_escape(Json::parse(string_token()).get<std::string>());
-                const auto [id, fresh] = child(node, key);
-                if (fresh) tree_.nodes[id].key = kp;
-                else if (!duplicate_) duplicate_ = std::make_pair(pointer_of(node, key), key_start);
-                ws();
-                ++i_;  // ':'
-                value(id);
-                ws();
-                if (i_ < s_.size() && s_[i_++] == '}') return;
-            }
-        } else if (c == '[') {
-            ++i_;
-            ws();
-            if (i_ < s_.size() && s_[i_] == ']') {
-                ++i_;
-                return;
-            }
-            for (std::size_t k = 0; i_ < s_.size(); ++k) {
-                value(child(node, std::to_string(k)).first);
-                ws();
-                if (i_ < s_.size() && s_[i_++] == ']') return;
-            }
-        } else if (c == '"') {
-            string_token();
-        } else {
-            while (i_ < s_.size() && !std::strchr(",]} \t\r\n", s_[i_])) ++i_;
-        }
+    /// The pointer of the current value of the innermost container, then `last`.
+    std::string pointer_of(const std::string& last) const {
+        std::string p;
+        for (std::size_t i = 0; i + 1 < segments_.size(); ++i) p += "/" + segments_[i];
+        return p + "/" + last;
+    }
+    /// Before a value: the segment of the innermost container's next value (arrays count).
+    void next_segment() {
+        if (segments_.empty()) return;
+        if (array_index_.back() != npos) segments_.back() = std::to_string(array_index_.back()++);
     }
 
+    enum class Token { literal, number, string };
+    bool scalar(Json&& v, Token kind, std::size_t literal_length = 0) {
+        const std::size_t at = start();
+        scan_ = at + (kind == Token::number ? number_length() : kind == Token::string ? string_length() : literal_length);
+        if (duplicate) return true;
+        next_segment();
+        TreeBuilder& b = builder();
+        const bool element = in_stream_ && b.done();
+        if (element) element_.reset(element_tree_);
+        b.value(std::move(v), at);
+        if (element) emit();
+        return true;
+    }
+    bool open(Json&& v) {
+        const std::size_t at = start();
+        scan_ = at + 1;
+        if (duplicate) return true;
+        next_segment();
+        const bool is_array = v.is_array();
+        if (!in_stream_ && is_array && on_element_ && main_.depth() == 1 && main_.top()->is_object() && top_key_ == streamed_key_ &&
+            !streamed_key_.empty()) {
+            // The streamed array: empty in the document, its elements one by one.
+            main_.value(Json::array(), at);
+            main_.close();
+            in_stream_ = true;
+            stream_index_ = 0;
+            segments_.emplace_back();
+            array_index_.push_back(0);
+            return true;
+        }
+        TreeBuilder& b = builder();
+        if (in_stream_ && b.done()) element_.reset(element_tree_);
+        b.value(std::move(v), at);
+        segments_.emplace_back();
+        array_index_.push_back(is_array ? 0 : npos);
+        return true;
+    }
+    bool close() {
+        const std::size_t at = start();
+        scan_ = at + 1;
+        if (duplicate) return true;
+        TreeBuilder& b = builder();
+        if (in_stream_ && b.done()) {  // the end of the streamed array
+            in_stream_ = false;
+            segments_.pop_back();
+            array_index_.pop_back();
+            return true;
+        }
+        b.close();
+        segments_.pop_back();
+        array_index_.pop_back();
+        if (in_stream_ && b.done()) emit();
+        return true;
+    }
+    void emit() {
+        const std::size_t i = stream_index_++;
+        if (on_element_)
+            on_element_(JsonNode(text_, element_tree_, element_tree_.json, 0, "/" + json_pointer_escape(streamed_key_) + "/" + std::to_string(i)));
+        element_tree_.json = nullptr;
+    }
+
+    static constexpr std::size_t npos = std::size_t(-1);
+    const JsonText& text_;
     std::string_view s_;
-    std::size_t i_ = 0, pos_index_ = 0;
-    TextPosition pos_{1, 1};
-    PositionTree& tree_;
-    std::optional<std::pair<std::string, std::size_t>> duplicate_;
+    std::string_view streamed_key_;
+    const JsonDocument::ElementFn& on_element_;
+    std::size_t scan_ = 0;
+    TreeBuilder main_, element_;
+    JsonTree element_tree_;
+    bool in_stream_ = false;
+    std::size_t stream_index_ = 0;
+    std::string top_key_;
+    /// Per open container (in the document or in an element): the pointer segment of its current
+    /// value, and for arrays the index of the next one (npos: an object).
+    std::vector<std::string> segments_;
+    std::vector<std::size_t> array_index_;
 };
 
 /// The nlohmann message without its "[json.exception...] parse error at line L, column C: " prefix.
@@ -210,32 +309,75 @@ std::string json_pointer_escape(std::string_view key) {
     return r;
 }
 
+// JsonText -------------------------------------------------------------------------------------
+
+JsonText::JsonText(std::string text, std::string file_name) : file_(std::move(file_name)), text_(std::move(text)) {
+    checkpoints_.push_back({1, 1});
+}
+
+TextPosition JsonText::position(std::size_t offset) const {
+    offset = std::min(offset, text_.size());
+    const auto advance = [this](TextPosition& p, std::size_t from, std::size_t to) {
+        for (std::size_t i = from; i < to; ++i) {
+            const unsigned char c = static_cast<unsigned char>(text_[i]);
+            if (c == '\n') {
+                ++p.line;
+                p.column = 1;
+            } else if ((c & 0xC0) != 0x80) {  // not a UTF-8 continuation byte
+                ++p.column;
+            }
+        }
+    };
+    // Checkpoints up to the offset's, then from the cursor when it is on the way, else from there.
+    const std::size_t k = offset / checkpoint_bytes;
+    while (checkpoints_.size() <= k) {
+        TextPosition p = checkpoints_.back();
+        const std::size_t from = (checkpoints_.size() - 1) * checkpoint_bytes;
+        advance(p, from, from + checkpoint_bytes);
+        checkpoints_.push_back(p);
+    }
+    if (!(cursor_offset_ <= offset && cursor_offset_ >= k * checkpoint_bytes)) {
+        cursor_offset_ = k * checkpoint_bytes;
+        cursor_ = checkpoints_[k];
+    }
+    advance(cursor_, cursor_offset_, offset);
+    cursor_offset_ = offset;
+    return cursor_;
+}
+
+Location JsonText::location(std::size_t offset, const std::string& pointer) const {
+    const TextPosition p = position(offset);
+    return {file_, p.line, p.column, pointer.empty() ? std::string("/") : pointer};
+}
+
 // JsonDocument ---------------------------------------------------------------------------------
 
-JsonDocument::JsonDocument(std::string text, std::string file_name) : file_(std::move(file_name)), text_(std::move(text)) {
-    // The position scanner recurses once per level: bound the depth before anything recurses.
-    if (const auto deep = too_deep(text_)) {
-        const TextPosition p = position_of(text_, *deep);
-        throw ParseError({file_, p.line, p.column, ""},
+JsonDocument::JsonDocument(std::string text, std::string file_name, std::string_view streamed_key, ElementFn on_element)
+    : text_(std::move(text), std::move(file_name)) {
+    const std::string& t = text_.text();
+    // Bound the depth before anything is parsed (nlohmann's parser and the builders keep a stack per level).
+    if (const auto deep = too_deep(t)) {
+        const TextPosition p = text_.position(*deep);
+        throw ParseError({file(), p.line, p.column, ""},
                          "nested deeper than " + std::to_string(max_json_depth) + " arrays/objects (the limit of a scene file)");
     }
-    PositionedDomParser dom(json_);
+    SaxHandler sax(text_, tree_, streamed_key, on_element);
     try {
-        Json::sax_parse(text_, &dom);
+        Json::sax_parse(t, &sax);
     } catch (const nlohmann::json::exception& e) {
         // Point at the last character read (syntax errors) or the start of the number (overflow).
-        std::size_t index = dom.chars_read > 0 ? dom.chars_read - 1 : 0;
+        std::size_t index = sax.chars_read > 0 ? sax.chars_read - 1 : 0;
         std::string message = clean_message(e.what());
         if (e.id == 406) {
-            index = dom.chars_read > dom.token.size() ? dom.chars_read - dom.token.size() : 0;
+            index = sax.chars_read > sax.token.size() ? sax.chars_read - sax.token.size() : 0;
             // strtod overflow: the lexer read one character past the number.
-            while (index > 0 && index < text_.size() && text_[index] != '-' && !std::isdigit(static_cast<unsigned char>(text_[index])))
+            while (index > 0 && index < t.size() && t[index] != '-' && !std::isdigit(static_cast<unsigned char>(t[index])))
                 --index;
             message += " (not representable as a finite double)";
         }
         // JSON has no NaN/Infinity literals; say so when that is what was written.
-        for (std::size_t k = index >= 1 ? index - 1 : 0; k <= index && k < text_.size(); ++k) {
-            const std::string_view rest = std::string_view(text_).substr(k, 8);
+        for (std::size_t k = index >= 1 ? index - 1 : 0; k <= index && k < t.size(); ++k) {
+            const std::string_view rest = std::string_view(t).substr(k, 8);
             for (std::string_view lit : {"NaN", "nan", "Infinity", "inf", "Inf"})
                 if (rest.substr(0, lit.size()) == lit) {
                     message += " (JSON has no NaN or Infinity; write a finite number)";
@@ -243,70 +385,33 @@ JsonDocument::JsonDocument(std::string text, std::string file_name) : file_(std:
                     break;
                 }
         }
-        const TextPosition p = position_of(text_, index);
-        throw ParseError({file_, p.line, p.column, ""}, message);
+        const TextPosition p = text_.position(index);
+        throw ParseError({file(), p.line, p.column, ""}, message);
     }
-    PositionScanner scanner(text_, tree_);
-    if (const auto dup = scanner.run()) {
-        const TextPosition p = position_of(text_, dup->second);
-        throw ParseError({file_, p.line, p.column, dup->first}, "duplicate key");
+    if (sax.duplicate) {
+        const TextPosition p = text_.position(sax.duplicate->second);
+        throw ParseError({file(), p.line, p.column, sax.duplicate->first}, "duplicate key");
     }
 }
 
-JsonNode JsonDocument::root() const { return JsonNode(*this, json_, ""); }
-
-std::string PositionTree::child_key(std::uint32_t parent, std::string_view segment) {
-    std::string k(sizeof parent, '\0');
-    std::memcpy(k.data(), &parent, sizeof parent);
-    k += segment;
-    return k;
-}
-
-std::string PositionTree::pointer(std::uint32_t node) const {
-    // Only for messages: a linear search for the parent of each level is fine.
-    std::vector<std::string> segments;
-    while (node != 0) {
-        bool found = false;
-        for (const auto& [k, id] : children)
-            if (id == node) {
-                std::uint32_t parent = 0;
-                std::memcpy(&parent, k.data(), sizeof parent);
-                segments.push_back(k.substr(sizeof parent));
-                node = parent;
-                found = true;
-                break;
-            }
-        if (!found) break;
-    }
-    std::string p;
-    for (auto it = segments.rbegin(); it != segments.rend(); ++it) p += "/" + *it;
-    return p;
-}
-
-TextPosition JsonDocument::position(const std::string& pointer, bool key) const {
-    // Walk the pointer's segments down the tree ("" is the root, "/a/0" = child "a", child "0").
-    if (tree_.nodes.empty()) return {};
-    std::uint32_t node = 0;
-    std::size_t i = 0;
-    while (i < pointer.size()) {
-        const std::size_t b = i + 1, e = std::min(pointer.find('/', b), pointer.size());
-        const auto it = tree_.children.find(PositionTree::child_key(node, std::string_view(pointer).substr(b, e - b)));
-        if (it == tree_.children.end()) return {};
-        node = it->second;
-        i = e;
-    }
-    return key ? tree_.nodes[node].key : tree_.nodes[node].value;
-}
-
-Location JsonDocument::location(const std::string& pointer, bool key) const {
-    const TextPosition p = position(pointer, key);
-    return {file_, p.line, p.column, pointer.empty() ? std::string("/") : pointer};
-}
+JsonNode JsonDocument::root() const { return JsonNode(text_, tree_, tree_.json, 0, ""); }
 
 // JsonNode -------------------------------------------------------------------------------------
 
+std::size_t JsonNode::offset(bool key) const {
+    if (node_ >= tree_->nodes.size()) return 0;
+    const JsonTree::Node& n = tree_->nodes[node_];
+    return key && n.key != JsonTree::no_key ? n.key : n.value;
+}
+
+std::uint32_t JsonNode::child_node(std::size_t k) const {
+    std::uint32_t c = node_ + 1;
+    for (std::size_t i = 0; i < k && c < tree_->nodes.size(); ++i) c = tree_->nodes[c].end;
+    return c;
+}
+
 void JsonNode::fail(const std::string& message, bool at_key) const {
-    throw ParseError(doc_->location(pointer_, at_key), message);
+    throw ParseError(location(at_key), message);
 }
 
 std::string JsonNode::describe() const {
@@ -330,7 +435,9 @@ std::string JsonNode::describe() const {
 
 void JsonNode::expect_keys(const std::vector<std::string_view>& allowed) const {
     if (!value_->is_object()) fail("expected an object, got " + describe());
+    std::size_t index = 0;
     for (const auto& [key, val] : value_->items()) {
+        const std::size_t k = index++;
         if (std::find(allowed.begin(), allowed.end(), key) != allowed.end()) continue;
         std::string msg = "unknown key " + quote_token(key);
         std::string_view best;
@@ -339,7 +446,7 @@ void JsonNode::expect_keys(const std::vector<std::string_view>& allowed) const {
             if (const std::size_t d = edit_distance(key, a); d < best_d) best_d = d, best = a;
         if (!best.empty()) msg += " (did you mean '" + std::string(best) + "'?)";
         msg += "; allowed: " + join(allowed);
-        JsonNode(*doc_, val, pointer_ + "/" + json_pointer_escape(key)).fail(msg, true);
+        child(val, k, json_pointer_escape(key)).fail(msg, true);
     }
 }
 
@@ -347,9 +454,11 @@ bool JsonNode::has(std::string_view key) const { return value_->is_object() && v
 
 std::optional<JsonNode> JsonNode::get(std::string_view key) const {
     if (!value_->is_object()) fail("expected an object, got " + describe());
-    const auto it = value_->find(key);
-    if (it == value_->end()) return std::nullopt;
-    return JsonNode(*doc_, *it, pointer_ + "/" + json_pointer_escape(key));
+    const auto& obj = *value_->get_ptr<const Json::object_t*>();
+    std::size_t k = 0;
+    for (auto it = obj.begin(); it != obj.end(); ++it, ++k)
+        if (it->first == key) return child(it->second, k, json_pointer_escape(key));
+    return std::nullopt;
 }
 
 JsonNode JsonNode::at(std::string_view key) const {
@@ -367,7 +476,11 @@ std::vector<JsonNode> JsonNode::array(std::size_t n, std::string_view element_ki
              std::to_string(value_->size()) + " elements");
     std::vector<JsonNode> r;
     r.reserve(value_->size());
-    for (std::size_t i = 0; i < value_->size(); ++i) r.emplace_back(*doc_, (*value_)[i], pointer_ + "/" + std::to_string(i));
+    std::uint32_t c = node_ + 1;
+    for (std::size_t i = 0; i < value_->size(); ++i) {
+        r.emplace_back(*text_, *tree_, (*value_)[i], c, pointer_ + "/" + std::to_string(i));
+        if (c < tree_->nodes.size()) c = tree_->nodes[c].end;
+    }
     return r;
 }
 

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
+#include <string>
 
 namespace quadcast::scene {
 
@@ -207,6 +208,10 @@ VolumeBoxFunction g_volume_box = nullptr;
 
 void set_volume_box_function(VolumeBoxFunction f) { g_volume_box = f; }
 VolumeBoxFunction volume_box_function() { return g_volume_box; }
+
+Location Scene::location(const Origin& o) const {
+    return {source.string(), o.line, o.column, "/objects/" + std::to_string(o.object) + "/" + std::string(o.kind)};
+}
 
 std::size_t Scene::primitive_count() const {
     return spheres.size() + ellipsoids.size() + cylinders.size() + cones.size() + quadrics.size() + quads.size() + volumes.size();

@@ -9,7 +9,6 @@
 #include <cstring>
 #include <fstream>
 #include <numbers>
-#include <sstream>
 #include <tuple>
 
 #include "quadcast/image/image_io.hpp"
@@ -38,11 +37,11 @@ struct ErrorList {
         ParseError error;
     };
     std::vector<Item> items;
-    const JsonDocument* doc = nullptr;
+    std::string file;  ///< the scene file's name in messages
 
     void add(const ParseError& e, const JsonNode* from = nullptr) {
         TextPosition at{e.line(), e.column()};
-        if (e.file() != doc->file() && from) at = from->document().position(from->pointer());
+        if (e.file() != file && from) at = from->position();
         items.push_back({at, items.size(), e});
     }
     /// Runs `f`, recording a ParseError (or running out of memory) instead of propagating it.
@@ -340,7 +339,8 @@ Material load_material(const JsonNode& entry, bool& color_given) {
     return m;
 }
 
-void load_object(Scene& scene, const JsonNode& entry, const std::filesystem::path& base_dir) {
+/// Entry `index` of "objects".
+void load_object(Scene& scene, const JsonNode& entry, std::size_t index, const std::filesystem::path& base_dir) {
     if (!entry.json().is_object()) entry.fail("expected an object such as {\"sphere\": {...}}, got " + entry.describe());
     const ObjectKind* kind = nullptr;
     for (const ObjectKind& k : object_kinds()) {
@@ -366,10 +366,9 @@ void load_object(Scene& scene, const JsonNode& entry, const std::filesystem::pat
     bool color_given = false;
     const Material material = load_material(entry, color_given);
     ObjectContext ctx{scene, entry, entry.at(kind->key), material, color_given, base_dir};
-    Location where = entry.at(kind->key).location();
-    where.field = entry.at(kind->key).pointer();
+    const TextPosition at = ctx.value.position();
     scene.origins.push_back({scene.spheres.size(), scene.ellipsoids.size(), scene.cylinders.size(), scene.cones.size(),
-                             scene.quadrics.size(), scene.quads.size(), std::move(where)});
+                             scene.quadrics.size(), scene.quads.size(), at.line, at.column, index, kind->key});
     kind->load(ctx);
 }
 
@@ -531,24 +530,32 @@ const std::vector<ObjectKind>& object_kinds() {
 }
 
 Scene parse_scene(std::string text, const std::string& file_name, const std::filesystem::path& base_dir) {
-    const JsonDocument doc(std::move(text), file_name);
-    const JsonNode root = doc.root();
-    if (!root.json().is_object()) root.fail("a scene is a JSON object with \"objects\", \"camera\", ..., got " + root.describe());
     // Every section and every object is checked even after an error (errors are collected and
-    // reported in file order); the scene is returned only when there is none.
+    // reported in file order); the scene is returned only when there is none. The entries of
+    // "objects" are loaded one by one while the text is parsed, each dropped once loaded, so a
+    // large scene is never held as JSON; a syntax error or duplicate key anywhere (found by the
+    // parse) discards what they gave.
     ErrorList errors;
-    errors.doc = &doc;
-    const bool keys_ok = errors.attempt(root, [&] { root.expect_keys({"camera", "lights", "objects", "options", "comment"}); });
-
+    errors.file = file_name;
     Scene scene;
     scene.source = file_name;
+    std::size_t entry_index = 0;
+    const JsonDocument doc(std::move(text), file_name, "objects", [&](const JsonNode& entry) {
+        const std::size_t i = entry_index++;
+        errors.attempt(entry, [&] { load_object(scene, entry, i, base_dir); });
+    });
+    const JsonNode root = doc.root();
+    if (!root.json().is_object()) root.fail("a scene is a JSON object with \"objects\", \"camera\", ..., got " + root.describe());
+    const bool keys_ok = errors.attempt(root, [&] { root.expect_keys({"camera", "lights", "objects", "options", "comment"}); });
+
     if (const auto o = root.get("options")) errors.attempt(*o, [&] { scene.options = load_options(*o, base_dir); });
     std::optional<JsonNode> objects;
     if (keys_ok || root.has("objects")) errors.attempt(root, [&] { objects = root.at("objects"); });  // a misspelt key says enough
     if (objects) {
+        // (an array was streamed above and is empty here; anything else is an error here)
         std::vector<JsonNode> entries;
         errors.attempt(*objects, [&] { entries = objects->array(); });
-        for (const JsonNode& entry : entries) errors.attempt(entry, [&] { load_object(scene, entry, base_dir); });
+        for (const JsonNode& entry : entries) errors.attempt(entry, [&] { load_object(scene, entry, entry_index++, base_dir); });
         if (scene.primitive_count() == 0 && errors.items.empty())
             scene.warnings.push_back(objects->warning("the scene has nothing to draw"));
     }
@@ -588,12 +595,26 @@ Scene load_scene(const std::filesystem::path& path) {
     std::ifstream in(path, std::ios::binary);
     if (!in) throw ParseError(file, std::string("cannot open: ") + std::strerror(errno));
     try {
-        std::ostringstream ss;
-        ss << in.rdbuf();
+        // Read in blocks into one string (no second copy of the text).
+        std::string text;
+        constexpr std::size_t block = std::size_t(1) << 20;
+        if (!ec && std::filesystem::is_regular_file(st)) {
+            const std::uintmax_t size = std::filesystem::file_size(path, ec);
+            if (!ec) text.reserve(static_cast<std::size_t>(size) + block);
+        }
+        while (in) {
+            const std::size_t n = text.size();
+            text.resize(n + block);
+            in.read(text.data() + n, static_cast<std::streamsize>(block));
+            text.resize(n + static_cast<std::size_t>(in.gcount()));
+            if (text.size() > max_scene_file_bytes)
+                throw ParseError(file, "the file has more than the limit of " + std::to_string(max_scene_file_bytes >> 20) +
+                                           " MiB for a scene file (put large geometry in PDB, OFF or volume files)");
+        }
         if (in.bad()) throw ParseError(file, "read error");
         std::filesystem::path base = path.parent_path();
         if (base.empty()) base = ".";
-        return parse_scene(ss.str(), path.string(), base);
+        return parse_scene(std::move(text), path.string(), base);
     } catch (const std::bad_alloc&) {
         throw ParseError(file, "out of memory while loading the scene");
     }

@@ -48,7 +48,7 @@ std::string origin_of(const scene::Scene& s, std::size_t scene::Scene::Origin::*
     const auto it = std::upper_bound(s.origins.begin(), s.origins.end(), i,
                                      [field](std::size_t v, const scene::Scene::Origin& o) { return v < o.*field; });
     if (it == s.origins.begin()) return "";
-    return scene::format_location(std::prev(it)->where);
+    return scene::format_location(s.location(*std::prev(it)));
 }
 
 }  // namespace
@@ -88,6 +88,7 @@ Frame build_frame(const scene::Scene& s, int width, int height) {
             throw std::invalid_argument(origin_of(s, field, i) + e.what());
         }
     };
+    fr.primitives.reserve(s.spheres.size() + s.ellipsoids.size() + s.cylinders.size() + s.cones.size() + s.quadrics.size() + s.quads.size());
     for (std::size_t i = 0; i < s.spheres.size(); ++i) {
         const auto& x = s.spheres[i];
         add(&O::spheres, i, [&] { return shapes::sphere(P(x.center), L(x.radius), look(x.material)); });

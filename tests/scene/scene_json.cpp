@@ -490,3 +490,117 @@ TEST_CASE("options.tight_bounds switches the tight screen rectangles and must be
     const ParseError e = error_of(R"({"objects": [], "options": {"tight_bounds": 1}})");
     CHECK(std::string(e.what()) == "s.json:1:45: /options/tight_bounds: expected true or false, got number 1");
 }
+
+namespace {
+
+/// `n` spheres, one per line after the line `{"objects": [`; sphere `bad` (if any) has radius -1.
+std::string many_spheres(std::size_t n, std::size_t bad, const std::string& tail = "") {
+    std::string t = "{\"objects\": [\n";
+    for (std::size_t i = 0; i < n; ++i)
+        t += std::string(i ? ",\n" : "") + "{\"sphere\": {\"center\": [" + std::to_string(i % 97) + ", 0, 0], \"radius\": " + (i == bad ? "-1" : "0.5") + "}}";
+    return t + "]" + tail + "}\n";
+}
+
+}  // namespace
+
+TEST_CASE("a scene of many objects names the line and column of an error late in the file, and keeps them in file order") {
+    const std::size_t n = 60000, bad = n - 3;
+    // Sphere i is on line i + 2; its radius value starts after `{"sphere": {"center": [X, 0, 0], "radius": `.
+    const std::string x = std::to_string(bad % 97);
+    const int column = static_cast<int>(std::string("{\"sphere\": {\"center\": [" + x + ", 0, 0], \"radius\": ").size()) + 1;
+    {
+        const ParseError e = error_of(many_spheres(n, bad));
+        CHECK(std::string(e.what()) == "s.json:" + std::to_string(bad + 2) + ":" + std::to_string(column) + ": /objects/" +
+                                           std::to_string(bad) + "/sphere/radius: expected a number > 0, got -1");
+    }
+    {
+        // Errors before and after the objects in the text (found after them) sort around it.
+        std::string text = many_spheres(n, bad, ", \"options\": {\"culling\": 3}");
+        text.insert(1, "\"camera\": {\"eye\": [0, 0, 0], \"target\": [0, 0, 0]},");
+        try {
+            parse(text);
+            FAIL("no error");
+        } catch (const ParseErrors& e) {
+            REQUIRE(e.errors().size() == 3);
+            CHECK(e.errors()[0].field() == "/camera/target");
+            CHECK(e.errors()[1].field() == "/objects/" + std::to_string(bad) + "/sphere/radius");
+            CHECK(e.errors()[1].line() == static_cast<int>(bad) + 2);
+            CHECK(e.errors()[2].field() == "/options/culling");
+            CHECK(e.errors()[2].line() == static_cast<int>(n) + 1);
+        }
+    }
+    {
+        // All on one line: the column counts from the start of the file.
+        std::string text = many_spheres(n, bad);
+        std::replace(text.begin(), text.end(), '\n', ' ');
+        const std::size_t at = text.find("-1");
+        const ParseError e = error_of(text);
+        CHECK(e.line() == 1);
+        CHECK(e.column() == static_cast<int>(at) + 1);
+    }
+    {
+        // No error: every sphere, each object's origin at its kind value.
+        const Scene s = parse(many_spheres(n, n));
+        REQUIRE(s.spheres.size() == n);
+        REQUIRE(s.origins.size() == n);
+        CHECK(s.spheres[bad].center[0] == double(bad % 97));
+        const Location l = s.location(s.origins[bad]);
+        CHECK(format_location(l) == "s.json:" + std::to_string(bad + 2) + ":12: /objects/" + std::to_string(bad) + "/sphere: ");
+    }
+}
+
+TEST_CASE("a syntax error or a duplicate key after bad objects is the only error, and nothing is loaded") {
+    const std::size_t n = 2000;
+    std::string text = many_spheres(n, 10);
+    text.insert(text.rfind(']'), ", {\"sphere\": {\"center\": [0, 0, 0], \"radius\": 1,}}");
+    const ParseError syntax = error_of(text);
+    CHECK(syntax.field().empty());
+    CHECK(syntax.line() == static_cast<int>(n) + 1);
+    CHECK(std::string(syntax.what()).find("/objects/10") == std::string::npos);
+
+    text = many_spheres(n, 10);
+    text.insert(text.rfind(']'), ", {\"sphere\": {\"center\": [0, 0, 0], \"center\": [1, 0, 0], \"radius\": 1}}");
+    const ParseError dup = error_of(text);
+    CHECK(dup.field() == "/objects/" + std::to_string(n) + "/sphere/center");
+    CHECK(dup.message() == "duplicate key");
+    CHECK(dup.line() == static_cast<int>(n) + 1);
+
+    // A top-level key written twice, the second time after the objects.
+    const ParseError top = error_of(many_spheres(5, 1, ", \"objects\": []"));
+    CHECK(top.field() == "/objects");
+    CHECK(top.message() == "duplicate key");
+}
+
+TEST_CASE("JsonDocument hands the elements of the streamed array over one by one and keeps none") {
+    const std::string text = "{\"a\": {\"objects\": [1, 2]},\n \"objects\": [{\"x\": [1, 2]}, 7, [true, {\"y/z\": null}]],\n \"b\": 3}";
+    std::vector<std::string> seen;
+    const JsonDocument doc(text, "d.json", "objects", [&](const JsonNode& e) {
+        // The element's tree is its own: positions and pointers as in the whole document.
+        seen.push_back(e.pointer() + " " + e.json().dump() + " @" + std::to_string(e.position().line) + ":" + std::to_string(e.position().column));
+        if (e.json().is_object()) {
+            const JsonNode x1 = e.at("x").array(2)[1];
+            CHECK(format_location(x1.location()) == "d.json:2:24: /objects/0/x/1: ");
+            CHECK(e.at("x").position(true).column == 15);  // (its key)
+        }
+        if (e.json().is_array()) {
+            const JsonNode y = e.array(2)[1].at("y/z");
+            CHECK(y.pointer() == "/objects/2/1/y~1z");
+            CHECK(y.position().column == 47);
+        }
+    });
+    REQUIRE(seen.size() == 3);
+    CHECK(seen[0] == "/objects/0 {\"x\":[1,2]} @2:14");
+    CHECK(seen[1] == "/objects/1 7 @2:29");
+    CHECK(seen[2] == "/objects/2 [true,{\"y/z\":null}] @2:32");
+    const JsonNode root = doc.root();
+    CHECK(root.at("objects").json() == Json::array());  // streamed, not kept
+    CHECK(root.at("objects").position().column == 13);
+    CHECK(root.at("a").at("objects").json().size() == 2);  // not at the top: kept
+    CHECK(root.at("b").position().line == 3);
+
+    // Not an array: kept in the document, nothing streamed.
+    std::size_t calls = 0;
+    const JsonDocument other("{\"objects\": {\"sphere\": 1}}", "d.json", "objects", [&](const JsonNode&) { ++calls; });
+    CHECK(calls == 0);
+    CHECK(other.root().at("objects").json().is_object());
+}

@@ -28,8 +28,14 @@ namespace {
 struct RenderArgs {
     std::string scene, output, depth;
     int width = 1024, height = 768, frames = 0;
-    bool cpu = false;
+    bool cpu = false, timing = false;
 };
+
+/// Frees a vector's memory.
+template <class T>
+void release(std::vector<T>& v) {
+    std::vector<T>().swap(v);
+}
 
 int write_outputs(const RenderArgs& a, const render::Image& img) {
     try {
@@ -132,6 +138,7 @@ int run_render(const RenderArgs& a) {
         std::cerr << "quadcast render: " << e.what() << "\n";
         return 1;
     }
+    PhaseTimer timer(a.timing);
     scene::Scene sc;
     scene::set_volume_box_function(volume_box);
     try {
@@ -143,6 +150,7 @@ int run_render(const RenderArgs& a) {
         std::cerr << a.scene << ": out of memory while loading the scene\n";
         return 1;
     }
+    timer.phase("load");
     for (const auto& w : sc.warnings) std::cerr << w.to_string() << "\n";
     render::Frame fr;
     try {
@@ -154,6 +162,16 @@ int run_render(const RenderArgs& a) {
         std::cerr << "quadcast render: " << a.scene << ": " << e.what() << "\n";
         return 1;
     }
+    // The frame holds the primitives now: the scene's own copies (and their origins) are dropped
+    // before the renderers make theirs.
+    release(sc.spheres);
+    release(sc.ellipsoids);
+    release(sc.cylinders);
+    release(sc.cones);
+    release(sc.quadrics);
+    release(sc.quads);
+    release(sc.origins);
+    timer.phase("frame");
     for (const auto& n : fr.notes) std::cerr << a.scene << ": note: " << n << "\n";
     std::vector<render::VolumeModel> volumes;
     try {
@@ -169,10 +187,12 @@ int run_render(const RenderArgs& a) {
         std::cerr << "quadcast render: " << e.what() << "\n";
         return 1;
     }
+    if (!volumes.empty()) timer.phase("volumes");
     render::Image img;
     if (a.cpu) {
         render::FrameStats st;
         img = render_scene_cpu(fr, volumes, &st);
+        timer.phase("draw");
         if (a.frames > 0) {
             std::vector<double> ms;
             for (int i = 0; i < a.frames; ++i) {
@@ -184,7 +204,9 @@ int run_render(const RenderArgs& a) {
                         a.scene.c_str(), fr.primitives.size(), volumes.size(), active_cubes(volumes), a.width, a.height, median(ms), a.frames,
                         static_cast<unsigned long long>(st.fragments), static_cast<unsigned long long>(st.culled));
         }
-        return write_outputs(a, img);
+        const int rc = write_outputs(a, img);
+        timer.phase("write");
+        return rc;
     }
     std::unique_ptr<gl::OsmesaContext> ctx;
     try {
@@ -193,13 +215,19 @@ int run_render(const RenderArgs& a) {
         std::cerr << "quadcast render: " << e.what() << " (use --cpu to render without OpenGL)\n";
         return 2;
     }
+    timer.phase("context");
     try {
         gl::QuadricRenderer r(ctx->api());
         gl::IsosurfaceRenderer iso(ctx->api());
         r.set_primitives(fr.primitives);
+        // (the renderer keeps its own copy)
+        const std::size_t primitive_count = fr.primitives.size();
+        release(fr.primitives);
         for (const auto& m : volumes) iso.add_volume(m);
         if (!volumes.empty()) r.add_pass(iso);
+        timer.phase("upload");
         r.draw(fr.camera, fr.light, fr.options);  // warm-up: compiles the variants the scene uses
+        timer.phase("draw");
         if (a.frames > 0) {
             std::vector<double> ms;
             for (int i = 0; i < a.frames; ++i) {
@@ -207,7 +235,7 @@ int run_render(const RenderArgs& a) {
                 r.draw(fr.camera, fr.light, fr.options);
                 ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
             }
-            std::printf("%s: %zu primitives, %dx%d, median frame %.2f ms over %d frames (%s)\n", a.scene.c_str(), fr.primitives.size(), a.width,
+            std::printf("%s: %zu primitives, %dx%d, median frame %.2f ms over %d frames (%s)\n", a.scene.c_str(), primitive_count, a.width,
                         a.height, median(ms), a.frames, ctx->info().renderer.c_str());
             for (std::size_t i = 0; i < iso.volume_count(); ++i) {
                 const gl::IsoDrawStats& s = iso.stats(i);
@@ -216,12 +244,16 @@ int run_render(const RenderArgs& a) {
                             volumes[i].scheme == render::VolumeScheme::trilinear ? "cells" : "relevant tetrahedra");
             }
         }
+        if (a.frames > 0) timer.phase("frames");
         img = r.read();
+        timer.phase("read");
     } catch (const std::exception& e) {
         std::cerr << "quadcast render: " << e.what() << "\n";
         return 1;
     }
-    return write_outputs(a, img);
+    const int rc = write_outputs(a, img);
+    timer.phase("write");
+    return rc;
 }
 
 }  // namespace
@@ -235,6 +267,7 @@ void add_render(CLI::App& app) {
     cmd->add_option("--height", a->height, "image height")->check(CLI::Range(1, 16384));
     cmd->add_flag("--cpu", a->cpu, "render with the CPU reference renderer");
     cmd->add_option("--depth", a->depth, "also write window depth as PFM (1.0 = background)");
+    cmd->add_flag("--timing", a->timing, "print each phase's time and the resident memory after it to stderr (load, frame, context, upload, draw, read, write)");
     cmd->add_option("--frames", a->frames, "time this many frames after a warm-up; print the median")->check(CLI::Range(0, 100000));
     cmd->callback([a] {
         const int rc = run_render(*a);

@@ -1,21 +1,24 @@
 // quadcast/scene/json_reader.hpp -- checked access to a JSON document with pointer + line/column errors
 #pragma once
 
-// nlohmann::json keeps no source positions, so JsonDocument scans the (already validated) text
-// once more and records the line and column of every value and every object key under its
-// JSON pointer (RFC 6901). JsonNode is a value plus its pointer; its accessors check types,
+// nlohmann::json keeps no source positions, so JsonDocument parses through nlohmann's SAX
+// interface and records the byte offset of every value and every object key beside the value
+// (JsonTree: one small node per value, in document order); line and column are computed from
+// the offset only when a message needs them. Large arrays need not be held: the elements of one
+// top-level array (the scene's "objects") can be handed to a callback one by one as each is
+// complete, and dropped. JsonNode is a value plus its pointer; its accessors check types,
 // finiteness, ranges, array lengths and unknown keys, and throw ParseError naming
 // file:line:column and the pointer, e.g.
 //     scene.json:14:23: /objects/3/sphere/radius: expected a number > 0, got -1
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <initializer_list>
 #include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
-#include <unordered_map>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -27,49 +30,71 @@ namespace quadcast::scene {
 
 using Json = nlohmann::ordered_json;
 
-/// Deepest nesting of arrays and objects accepted in a JSON text (the README's "Limits"): the
-/// position scanner recurses once per level, so deeper texts are an error at the first bracket
-/// too many, before any parsing.
+/// Deepest nesting of arrays and objects accepted in a JSON text (the README's "Limits"): checked
+/// before parsing, so deeper texts are an error at the first bracket too many.
 inline constexpr int max_json_depth = 256;
 
 struct TextPosition {
     int line = 0, column = 0;  ///< 1-based; column counts characters (UTF-8 code points)
 };
 
-class JsonNode;
+/// A text and the line and column of byte offsets in it. Queries in increasing order cost the
+/// bytes between them; others start from a checkpoint every 4 KiB.
+class JsonText {
+public:
+    JsonText(std::string text, std::string file_name);
+    const std::string& text() const { return text_; }
+    const std::string& file() const { return file_; }
+    TextPosition position(std::size_t offset) const;
+    /// file:line:column of `offset`, with `pointer` as the field ("/" for the root).
+    Location location(std::size_t offset, const std::string& pointer) const;
 
-/// Positions of the values (and keys) of a JSON text: node 0 is the root; `children` maps
-/// (parent id, escaped key or array index) to a node id.
-struct PositionTree {
-    struct Node {
-        TextPosition value, key;
-    };
-    std::vector<Node> nodes;
-    std::unordered_map<std::string, std::uint32_t> children;
-    static std::string child_key(std::uint32_t parent, std::string_view segment);
-    /// The JSON pointer of a node (slow; for messages).
-    std::string pointer(std::uint32_t node) const;
+private:
+    static constexpr std::size_t checkpoint_bytes = 4096;
+    std::string file_, text_;
+    mutable std::vector<TextPosition> checkpoints_;  ///< of the offsets k * checkpoint_bytes
+    mutable std::size_t cursor_offset_ = 0;
+    mutable TextPosition cursor_{1, 1};
 };
+
+/// A parsed JSON value with the byte offset of every value (and key) in it: node 0 is the value
+/// itself, then its descendants in document order; `end` is the node after a node's subtree, so
+/// a container's children are node + 1, nodes[node + 1].end, ...
+struct JsonTree {
+    static constexpr std::size_t no_key = std::size_t(-1);
+    struct Node {
+        std::size_t value = 0, key = no_key;  ///< byte offsets of the value and of its key's quote
+        std::uint32_t end = 0;
+    };
+    Json json;
+    std::vector<Node> nodes;
+};
+
+class JsonNode;
 
 /// A parsed JSON text with the position of every value and key.
 class JsonDocument {
 public:
+    /// Called with each element of the streamed array (/`streamed_key`) once it is complete; the
+    /// node is valid during the call only.
+    using ElementFn = std::function<void(const JsonNode& element)>;
+
     /// Parses `text`. Syntax errors (and duplicate keys) throw ParseError with the line and
-    /// column; the field is empty for syntax errors and the pointer for duplicate keys.
-    JsonDocument(std::string text, std::string file_name);
+    /// column; the field is empty for syntax errors and the pointer for duplicate keys. They are
+    /// found before anything is returned, but elements handed to `on_element` before them have
+    /// been handed already: a caller that collects results from `on_element` discards them when
+    /// the constructor throws. When the text is an object whose member `streamed_key` is an
+    /// array, its elements go to `on_element` (in order, if it is set) and not into the document,
+    /// where that member is an empty array.
+    JsonDocument(std::string text, std::string file_name, std::string_view streamed_key = {}, ElementFn on_element = {});
 
     JsonNode root() const;
-    const std::string& file() const { return file_; }
-    /// Position of the value at `pointer` (of its key when `key` is true); {0,0} if unknown.
-    TextPosition position(const std::string& pointer, bool key = false) const;
-    Location location(const std::string& pointer, bool key = false) const;
+    const std::string& file() const { return text_.file(); }
+    const JsonText& text() const { return text_; }
 
 private:
-    std::string file_;
-    std::string text_;
-    Json json_;
-    PositionTree tree_;
-    friend class JsonNode;
+    JsonText text_;
+    JsonTree tree_;
 };
 
 /// Escapes a key for a JSON pointer: '~' -> "~0", '/' -> "~1".
@@ -77,16 +102,20 @@ std::string json_pointer_escape(std::string_view key);
 
 enum class Range { any, positive, nonnegative, unit };  ///< unit = [0, 1]
 
-/// A value in a JsonDocument, with its pointer. Cheap to copy (two pointers and a string).
+/// A value in a parsed JSON text, with its pointer. Cheap to copy (three pointers, an index and a
+/// string); valid while the tree it points into is.
 class JsonNode {
 public:
-    JsonNode(const JsonDocument& doc, const Json& value, std::string pointer)
-        : doc_(&doc), value_(&value), pointer_(std::move(pointer)) {}
+    JsonNode(const JsonText& text, const JsonTree& tree, const Json& value, std::uint32_t node, std::string pointer)
+        : text_(&text), tree_(&tree), value_(&value), node_(node), pointer_(std::move(pointer)) {}
 
     const Json& json() const { return *value_; }
     const std::string& pointer() const { return pointer_; }
-    const JsonDocument& document() const { return *doc_; }
-    Location location() const { return doc_->location(pointer_); }
+    const JsonText& text() const { return *text_; }
+    /// Byte offset of the value (of its key when `key` is true and it has one) in the text.
+    std::size_t offset(bool key = false) const;
+    TextPosition position(bool key = false) const { return text_->position(offset(key)); }
+    Location location(bool key = false) const { return text_->location(offset(key), pointer_); }
 
     /// Throws ParseError at this value (at its key when `at_key`).
     [[noreturn]] void fail(const std::string& message, bool at_key = false) const;
@@ -125,8 +154,16 @@ public:
     std::string describe() const;
 
 private:
-    const JsonDocument* doc_;
+    /// The node of the k-th child of this container.
+    std::uint32_t child_node(std::size_t k) const;
+    JsonNode child(const Json& value, std::size_t k, std::string segment) const {
+        return JsonNode(*text_, *tree_, value, child_node(k), pointer_ + "/" + segment);
+    }
+
+    const JsonText* text_;
+    const JsonTree* tree_;
     const Json* value_;
+    std::uint32_t node_;
     std::string pointer_;
 };
 

@@ -29,8 +29,8 @@
 
 namespace quadcast::scene {
 
-/// Largest scene file accepted (the README's "Limits"): the JSON document takes about 20 times
-/// the text's size in memory.
+/// Largest scene file accepted (the README's "Limits"): loading holds the text and the scene
+/// (the entries of "objects" are parsed one at a time), about 4 times the text for spheres.
 inline constexpr std::uintmax_t max_scene_file_bytes = std::uintmax_t(64) << 20;
 
 /// Reads and validates a scene file. Throws ParseErrors (every error found, in file order; as a
