@@ -97,8 +97,10 @@ public:
         std::vector<float> planes;  // 16 floats per primitive of the planes variant, in record order
         std::vector<float> occluders;  // per record its centre and render::occluder_radius
         records.reserve(prims.size());
-        occluders.reserve(prims.size());
-        prims_ = prims;
+        occluders.reserve(4 * prims.size());
+        bounds_lo_ = {{1e300, 1e300, 1e300}};
+        bounds_hi_ = {{-1e300, -1e300, -1e300}};
+        render::grow_by_bounds(prims, bounds_lo_, bounds_hi_);
         for (int v = 0; v < render::variant_count; ++v) {
             ranges_[v] = {static_cast<std::uint32_t>(records.size()), 0};
             for (const auto& p : prims) {
@@ -148,7 +150,7 @@ public:
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, planes_);
         if (opt.shadows) {
             // Shadow map: the geometry-buffer programs from the light camera, depth only.
-            Vec3<double> lo{{1e300, 1e300, 1e300}}, hi{{-1e300, -1e300, -1e300}};
+            Vec3<double> lo = bounds_lo_, hi = bounds_hi_;
             for (const ScenePass* p : passes_) {
                 Vec3<double> plo{}, phi{};
                 p->bounds(plo, phi);
@@ -157,7 +159,7 @@ public:
                     hi[i] = std::max(hi[i], phi[i]);
                 }
             }
-            light_cam_ = render::light_camera(prims_, light, lo, hi);
+            light_cam_ = render::light_camera({}, light, lo, hi);
             ensure_shadow_map(opt.shadow_map_size);
             gl.BindFramebuffer(GL_FRAMEBUFFER, sfbo_);
             gl.Viewport(0, 0, shadow_size_, shadow_size_);
@@ -165,7 +167,7 @@ public:
             gl.ClearBufferfv(GL_DEPTH, 0, &clear_one);
             gl.Enable(GL_DEPTH_TEST);
             gl.DepthFunc(GL_LESS);
-            draw_primitives(light_cam_, light, opt, true);
+            draw_primitives(light_cam_, light, opt, true, opt.occlusion_culling);  // culled from the light: what it cannot see casts no shadow
         }
         const float bg[4] = {opt.background[0], opt.background[1], opt.background[2], 1.0f};
         const float one = 1.0f;
@@ -211,18 +213,23 @@ public:
         check_errors(gl, "QuadricRenderer::draw");
         if (opt.occlusion_culling && count_ > 0) {
             // The primitives the cull pass kept: the index counts of the indirect commands.
-            std::uint32_t cmds[5 * render::variant_count];
+            std::uint32_t cmds[5 * render::variant_count + 2];
             gl.BindBuffer(GL_DRAW_INDIRECT_BUFFER, commands_);
             gl.GetBufferSubData(GL_DRAW_INDIRECT_BUFFER, 0, sizeof cmds, cmds);
             gl.BindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
             drawn_ = 0;
             for (int v = 0; v < render::variant_count; ++v) drawn_ += cmds[5 * v] / 6;
+            frustum_culled_ = cmds[5 * render::variant_count];
+            occluded_ = cmds[5 * render::variant_count + 1];
         } else {
             drawn_ = count_;
+            frustum_culled_ = occluded_ = 0;
         }
     }
 
     std::size_t drawn_primitives() const { return drawn_; }
+    std::size_t frustum_culled() const { return frustum_culled_; }
+    std::size_t occluded() const { return occluded_; }
 
     /// Draws every variant's primitives with the forward or geometry-buffer programs into the
     /// bound framebuffer, then the other passes (`add_pass`).
@@ -294,7 +301,7 @@ private:
             levels.push_back({b[0] + b[1] * b[2], (b[1] + 1) / 2, (b[2] + 1) / 2});
         }
         const std::size_t texels = levels.back()[0] + 1;
-        if (texels != depth_texels_) {
+        if (texels > depth_texels_) {  // grown only (the shadow map's pass and the camera's share it)
             upload(depths_, std::vector<std::uint32_t>(texels));
             depth_texels_ = texels;
         }
@@ -340,7 +347,7 @@ private:
             gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
         }
         // 3. The cull pass, from zeroed commands.
-        std::uint32_t cmds[5 * render::variant_count] = {};
+        std::uint32_t cmds[5 * render::variant_count + 2] = {};  // the commands, then the counts of culled primitives
         for (int v = 0; v < render::variant_count; ++v) {
             cmds[5 * v + 1] = 1;
             cmds[5 * v + 3] = 4 * ranges_[v].first;
@@ -351,6 +358,7 @@ private:
         const Program& cull = programs_.get(render::OcclusionKey{render::OcclusionPass::cull});
         common(cull);
         gl.Uniform1i(cull.uniform_location("qc_occlusion"), 1);
+        gl.Uniform1ui(cull.uniform_location("qc_stats_at"), static_cast<GLuint>(5 * render::variant_count));
         std::vector<GLuint> lv;
         for (const auto& l : levels) lv.insert(lv.end(), l.begin(), l.end());
         const int level_count = static_cast<int>(std::min<std::size_t>(levels.size(), 16));
@@ -582,11 +590,11 @@ private:
     GLuint sfbo_ = 0, stex_ = 0;             ///< shadow map
     GLuint etex_ = 0;                        ///< environment map
     GLuint occluders_ = 0, depths_ = 0, visible_ = 0, commands_ = 0;  ///< occlusion culling
-    std::size_t depth_texels_ = 0, drawn_ = 0;
+    std::size_t depth_texels_ = 0, drawn_ = 0, frustum_culled_ = 0, occluded_ = 0;
     std::shared_ptr<const render::EnvironmentMap> env_;  ///< the map in etex_
     int shadow_size_ = 0;
     render::Camera light_cam_;
-    std::vector<render::Primitive> prims_;   ///< for fitting the light camera
+    Vec3<double> bounds_lo_{{1e300, 1e300, 1e300}}, bounds_hi_{{-1e300, -1e300, -1e300}};  ///< of the primitives' bounding spheres (the light camera)
     std::vector<ScenePass*> passes_;
     int width_ = 0, height_ = 0;
     std::size_t count_ = 0;
@@ -619,5 +627,7 @@ void QuadricRenderer::draw_primitives(const render::Camera& cam, const render::L
 render::Image QuadricRenderer::read() const { return impl_->read(); }
 std::size_t QuadricRenderer::primitive_count() const { return impl_->primitive_count(); }
 std::size_t QuadricRenderer::drawn_primitives() const { return impl_->drawn_primitives(); }
+std::size_t QuadricRenderer::frustum_culled() const { return impl_->frustum_culled(); }
+std::size_t QuadricRenderer::occluded() const { return impl_->occluded(); }
 
 }  // namespace quadcast::gl

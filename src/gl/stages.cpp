@@ -435,7 +435,7 @@ const char* pyramid_shader =
 /// whose nearest view distance (`nearest_distance`) lies beyond the largest occluder depth over
 /// its pixels (read from the pyramid level where they span at most 4 x 4 texels), is culled; the
 /// others are listed in qc_visible from the variant's first slot, counted in its indirect draw
-/// command (6 indices each).
+/// command (6 indices each); the culled ones are counted after the commands.
 Stage cull_shader() {
     Stage s;
     std::ostringstream fns;
@@ -450,6 +450,7 @@ Stage cull_shader() {
          "layout(std430, binding = 5) buffer qc_Commands { uint qc_command[]; };  // DrawElementsIndirectCommand per variant\n"
          "uniform int qc_bound;        // quadcast::RectBound of the variant\n"
          "uniform uint qc_command_at;  // the variant's command (uint offset)\n"
+         "uniform uint qc_stats_at;    // the counts of primitives culled outside the frustum and behind occluders (uint offset)\n"
          "uniform bool qc_occlusion;   // test against the pyramid (else only the frustum)\n"
          "uniform uvec3 qc_levels[16]; // offset, width, height of each pyramid level\n"
          "uniform int qc_level_count;\n\n"
@@ -467,11 +468,11 @@ Stage cull_shader() {
          "        qc_primitive_rect_slab(qc_view_projection, q, c, qc_record_radius(p), qc_record_axis(p), qc_record_half_length(p), qc_viewport, lo, hi, tight, visible);\n"
          "    else\n"
          "        qc_primitive_rect_sphere(qc_view_projection, q, c, qc_record_radius(p), qc_record_axis(p), qc_record_half_length(p), qc_viewport, lo, hi, tight, visible);\n"
-         "    if (!visible) return;  // entirely behind the eye plane\n"
+         "    if (!visible) { atomicAdd(qc_command[qc_stats_at], 1u); return; }  // entirely behind the eye plane\n"
          "    if (tight) {\n"
          "        vec4 span;\n"
          "        qc_pixel_span(lo, hi, qc_viewport, span);\n"
-         "        if (span.x > span.z || span.y > span.w) return;  // no pixel centre of the viewport\n"
+         "        if (span.x > span.z || span.y > span.w) { atomicAdd(qc_command[qc_stats_at], 1u); return; }  // no pixel centre of the viewport\n"
          "        float nearest;\n"
          "        qc_nearest_distance(qc_vz_row, qc_vz_t, c, qc_record_radius(p), nearest);\n"
          "        if (qc_occlusion && nearest > 0.0) {\n"
@@ -482,7 +483,7 @@ Stage cull_shader() {
          "            uint farthest = 0u;\n"
          "            for (uint y = b.y >> level; y <= (b.w >> level); ++y)\n"
          "                for (uint x = b.x >> level; x <= (b.z >> level); ++x) farthest = max(farthest, qc_depth[l.x + y * l.y + x]);\n"
-         "            if (floatBitsToUint(nearest) > farthest) return;  // behind every occluder over its pixels\n"
+         "            if (floatBitsToUint(nearest) > farthest) { atomicAdd(qc_command[qc_stats_at + 1u], 1u); return; }  // behind every occluder over its pixels\n"
          "        }\n"
          "    }\n"
          "    uint slot = atomicAdd(qc_command[qc_command_at], 6u) / 6u;\n"

@@ -237,6 +237,20 @@ int run_render(const RenderArgs& a) {
             }
             std::printf("%s: %zu primitives, %dx%d, median frame %.2f ms over %d frames (%s)\n", a.scene.c_str(), primitive_count, a.width,
                         a.height, median(ms), a.frames, ctx->info().renderer.c_str());
+            if (fr.options.occlusion_culling)
+                std::printf("%s: cull pass: %zu primitives drawn, %zu culled outside the view, %zu hidden behind occluders\n", a.scene.c_str(),
+                            r.drawn_primitives(), r.frustum_culled(), r.occluded());
+            if (gl::has_extension(ctx->api(), "GL_ARB_pipeline_statistics_query")) {
+                // One more frame with the fragment count (not timed).
+                r.set_count_fragments(true);
+                r.draw(fr.camera, fr.light, fr.options);
+                r.set_count_fragments(false);
+                const render::Image shown = r.read();
+                const auto visible = std::count_if(shown.depth.begin(), shown.depth.end(), [](float d) { return d < 1.0f; });
+                std::printf("%s: %llu fragments shaded for %lld visible pixels (%.2f per visible pixel; llvmpipe shades 4x4 blocks)\n", a.scene.c_str(),
+                            static_cast<unsigned long long>(r.fragment_invocations()), static_cast<long long>(visible),
+                            static_cast<double>(r.fragment_invocations()) / static_cast<double>(std::max<long long>(1, visible)));
+            }
             for (std::size_t i = 0; i < iso.volume_count(); ++i) {
                 const gl::IsoDrawStats& s = iso.stats(i);
                 std::printf("%s: volume %zu (%s): %zu active cubes, %zu in the view frustum, %zu of %zu %s drawn\n", a.scene.c_str(), i,

@@ -79,6 +79,11 @@ public:
     /// The primitives the last `draw` drew: with RenderOptions::occlusion_culling those its cull
     /// pass kept (in the frustum and not hidden by occluders), else all of them.
     std::size_t drawn_primitives() const;
+    /// Of the last `draw`'s primitives, those its cull pass left out because they cannot reach a
+    /// pixel of the viewport (behind the eye or off screen), and those hidden behind occluders
+    /// (0 without RenderOptions::occlusion_culling).
+    std::size_t frustum_culled() const;
+    std::size_t occluded() const;
 
 private:
     class Impl;

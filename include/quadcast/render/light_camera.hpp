@@ -30,8 +30,8 @@ inline Mat4<double> inverse4(const Mat4<double>& m) {
 /// sphere: the sphere around their bounding box (centre c, radius R) seen from c - 2 R dir, a
 /// 2R x 2R window, near R, far 3R. A scene without primitives gets the unit sphere. The box
 /// [lo, hi] of other geometry (volumes) is included; empty (lo > hi) by default.
-inline Camera light_camera(const std::vector<Primitive>& prims, const Light& light,
-                           Vec3<double> lo = {{1e300, 1e300, 1e300}}, Vec3<double> hi = {{-1e300, -1e300, -1e300}}) {
+/// Grows the box [lo, hi] by every primitive's bounding sphere (lo > hi: empty).
+inline void grow_by_bounds(const std::vector<Primitive>& prims, Vec3<double>& lo, Vec3<double>& hi) {
     for (const Primitive& p : prims) {
         const double r = static_cast<double>(p.shape.radius);
         if (!std::isfinite(r)) continue;
@@ -40,6 +40,11 @@ inline Camera light_camera(const std::vector<Primitive>& prims, const Light& lig
             hi[i] = std::max(hi[i], static_cast<double>(p.shape.center[i]) + r);
         }
     }
+}
+
+inline Camera light_camera(const std::vector<Primitive>& prims, const Light& light,
+                           Vec3<double> lo = {{1e300, 1e300, 1e300}}, Vec3<double> hi = {{-1e300, -1e300, -1e300}}) {
+    grow_by_bounds(prims, lo, hi);
     Vec3<double> c{{0.0, 0.0, 0.0}};
     double R = 1.0;
     if (lo[0] <= hi[0]) {

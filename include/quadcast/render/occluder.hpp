@@ -24,7 +24,7 @@ namespace quadcast::render {
 inline float occluder_radius(const Primitive& p) {
     using namespace validate_detail;
     constexpr double margin = 1.0 - 1.0 / 1024.0;
-    if (p.variant == Variant::sphere) return static_cast<float>(p.shape.radius * margin);
+    if (p.variant == Variant::sphere) return static_cast<float>(static_cast<double>(p.shape.radius) * margin);
     if (p.variant != Variant::ellipsoid && p.variant != Variant::slab) return 0.0f;
     M3 a{};
     V3 b{};
