@@ -445,26 +445,32 @@ inline void pixel_span_inputs(std::mt19937& rng, std::span<float> in) {
 /// may be written (`occluder_usable`).
 struct OccluderDepthKernel {
     static constexpr const char* name = "occluder_depth";
-    static constexpr const char* source = "quadcast::view_distance, quadcast::occluder_usable (quadcast/occlusion.hpp)";
+    static constexpr const char* source = "quadcast::view_distance, quadcast::occluder_usable, quadcast::nearest_distance, quadcast::window_depth_of (quadcast/occlusion.hpp)";
     static constexpr const char* summary = "an occluder's view distance and whether it lies between the near and far planes";
     template <class IO> static void run(IO& io) {
         using T = typename IO::T;
         const Vec3<T> vz_row = io.template vec<3>("vz_row");
         const T vz_t = io.scalar("vz_t");
         const Vec3<T> c = io.template vec<3>("c");
-        const T r_in = io.scalar("r_in"), near = io.scalar("near"), far = io.scalar("far");
+        const T r_in = io.scalar("r_in"), radius = io.scalar("radius"), near = io.scalar("near"), far = io.scalar("far"), gap = io.scalar("gap");
+        const Vec4<T> pz = io.template vec<4>("pz");
         const T s = view_distance(vz_row, vz_t, c);
         io.out("s", s);
-        io.out("usable", occluder_usable(s, r_in, near, far));
+        io.out("usable", occluder_usable(s, r_in, radius, c, vz_t, near, far, gap, pz));
     }
     static void generate(std::mt19937& rng, std::span<float> in) {
         std::size_t p = 0;
         put(in, p, random_direction(rng));
         put(in, p, uniform(rng, -60.0f, 60.0f));
         put(in, p, random_point(rng, 60.0f));
-        put(in, p, uniform(rng, 0.0f, 5.0f));
-        put(in, p, uniform(rng, 0.0f, 10.0f));
-        put(in, p, uniform(rng, 20.0f, 150.0f));
+        const float r = uniform(rng, 0.0f, 5.0f);
+        put(in, p, r);
+        put(in, p, r * uniform(rng, 1.0f, 1.2f));
+        const float n = uniform(rng, 0.01f, 10.0f), f = n * uniform(rng, 2.0f, 1e3f);
+        put(in, p, n);
+        put(in, p, f);
+        put(in, p, uniform(rng, 0.01f, 0.3f));
+        put(in, p, vec4(-(f + n) / (f - n), -2.0f * f * n / (f - n), -1.0f, 0.0f));
     }
 };
 

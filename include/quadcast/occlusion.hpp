@@ -5,9 +5,11 @@
 // closed convex primitive whose occluder ball (c, r_in) -- a ball inside the solid, see
 // quadcast/render/occluder.hpp -- lies between the near and far planes writes, at each pixel whose
 // centre ray crosses the ball's central disk perpendicular to the viewing axis, the view distance
-// of that disk. The ray enters the solid before it reaches the disk, so the primitive's own
-// surface there is nearer than the value written: the occluder depth of a pixel is never nearer
-// than what the pixel shows, whichever occluder wrote it last (so the writes need no atomics).
+// of that disk. With the eye outside the solid and all of it beyond the near plane
+// (`occluder_usable`), the ray enters the solid before it reaches the disk and the fragment stage
+// keeps that hit, so the primitive's own surface there is nearer than the value written: the
+// occluder depth of a pixel is never nearer than what the pixel shows, whichever occluder wrote it
+// last (so the writes need no atomics).
 // A primitive whose nearest possible view distance (its bounding sphere's) lies beyond the
 // farthest occluder depth over every pixel of its screen rectangle cannot show anywhere and need
 // not be drawn; the picture does not change.
@@ -26,22 +28,41 @@ T view_distance(const Vec3<T>& vz_row, const T& vz_t, const Vec3<T>& c) {
     return -(dot(vz_row, c) + vz_t);
 }
 
-/// Whether an occluder ball at view distance `s` with radius `r_in` may write its disk: the ball
-/// lies strictly between the near and far distances (so the fragment stage keeps the surface in
-/// front of the disk: nothing nearer than the near plane or beyond the far plane is drawn), and
-/// is not so small against its distance (r_in > s 2^-14) that the surface's float depth could
-/// reach the disk's.
-/// Numerics: s - r_in > near, s + r_in < far, r_in > s * 2^-14.
+/// Window depth of the view distance `s` for the projection entries pz = (P22, P32, P23, P33).
+/// Numerics: z = -s; ((P22 z + P32) / (P23 z + P33)) * 0.5 + 0.5.
 template <class T>
-mask_t<T> occluder_usable(const T& s, const T& r_in, const T& near, const T& far) {
-    return ((s - r_in > near) && (s + r_in < far)) && (r_in > s * T(1.0 / 16384.0));
+T window_depth_of(const T& s, const Vec4<T>& pz) {
+    const T z = -s;
+    return ((pz[0] * z + pz[1]) / (pz[2] * z + pz[3])) * T(0.5) + T(0.5);
 }
 
-/// The nearest view distance a primitive can show at: its bounding sphere's, s - radius.
-/// Numerics: one subtraction.
+/// The nearest view distance a primitive can show at: its bounding sphere's, s - radius, with
+/// the radius grown by 2^-10 (validation accepts shapes reaching 1e-4 beyond their bounding radius).
+/// Numerics: s - radius * (1 + 2^-10).
 template <class T>
 T nearest_distance(const T& s, const T& radius) {
-    return s - radius;
+    return s - radius * T(1.0 + 1.0 / 1024.0);
+}
+
+/// Whether an occluder may write its disk (view distance `s`, radius `r_in`, centre `c`):
+/// - the whole primitive, its bounding sphere of radius `radius` (`nearest_distance`), lies beyond the near distance
+///   (so the eye is outside it and the near plane cuts none of its surface: every pixel ray
+///   through the disk meets the surface in front of the disk and the fragment stage keeps that
+///   hit) and the disk before the far distance;
+/// - the surface lies in front of the disk by gap * r_in at least along every pixel ray (`gap`:
+///   quadcast::render::occlusion_range), and that is more than 2^-16 in window depth, far above
+///   the rounding of the fragment stage's depths;
+/// - r_in > 2^-12 (|c|_1 + |vz_t|): the rounding of view distances and projections, which grows
+///   with the coordinates, stays far below the disk's margins.
+/// Numerics: nearest_distance(s, radius) > near, s < far, window_depth_of(s) - window_depth_of(s - gap * r_in) > 2^-16,
+/// r_in > (|c.x| + |c.y| + |c.z| + |vz_t|) * 2^-12.
+template <class T>
+mask_t<T> occluder_usable(const T& s, const T& r_in, const T& radius, const Vec3<T>& c, const T& vz_t, const T& near, const T& far, const T& gap,
+                          const Vec4<T>& pz) {
+    const T mag = ((abs(c[0]) + abs(c[1])) + abs(c[2])) + abs(vz_t);
+    const mask_t<T> range = (nearest_distance(s, radius) > near) && (s < far);
+    const mask_t<T> resolved = window_depth_of(s, pz) - window_depth_of(s - gap * r_in, pz) > T(1.0 / 65536.0);
+    return (range && resolved) && (r_in > mag * T(1.0 / 4096.0));
 }
 
 /// The projection of an occluder's central disk (centre c, radius r_in, perpendicular to the
@@ -49,9 +70,9 @@ T nearest_distance(const T& s, const T& radius) {
 /// y affinely and without rotation to NDC, so the disk projects exactly to the axis-aligned
 /// ellipse around the projection of c whose semi-axes are the offsets of the projections of
 /// c + r_in right and c + r_in up (`right` and `up`: the first two rows of the world -> view
-/// rotation). The caller passes r_in with a margin (the ball's radius times 1 - 2^-10): rounding
-/// cannot carry a pixel centre out of the disk, and near its rim the surface lies at least
-/// 0.04 r_in in front of it.
+/// rotation). The caller passes r_in with a margin (the ball's radius times 15/16): rounding
+/// cannot carry a pixel centre out of the disk, and near its rim the surface still lies in front
+/// of it by the `gap` of `occluder_usable`.
 /// Numerics: clip = VP (p, 1) (left folds) for p = c, c + right r_in, c + up r_in; ndc = clip.xy / clip.w;
 /// axes = |ndc(c + right r_in).x - ndc(c).x|, |ndc(c + up r_in).y - ndc(c).y|.
 template <class T>

@@ -41,6 +41,8 @@ public:
         api.GenBuffers(1, &depths_);
         api.GenBuffers(1, &visible_);
         api.GenBuffers(1, &commands_);
+        api.GenBuffers(1, &keep_);
+        api.GenBuffers(1, &groups_);
     }
     ~Impl() {
         if (etex_) api_->DeleteTextures(1, &etex_);
@@ -53,6 +55,8 @@ public:
         api_->DeleteBuffers(1, &depths_);
         api_->DeleteBuffers(1, &visible_);
         api_->DeleteBuffers(1, &commands_);
+        api_->DeleteBuffers(1, &keep_);
+        api_->DeleteBuffers(1, &groups_);
         api_->DeleteVertexArrays(1, &vao_);
         if (query_) api_->DeleteQueries(1, &query_);
         if (fs_query_) api_->DeleteQueries(1, &fs_query_);
@@ -95,9 +99,9 @@ public:
         gl::validate_primitives(prims);
         std::vector<PrimitiveRecord> records;
         std::vector<float> planes;  // 16 floats per primitive of the planes variant, in record order
-        std::vector<float> occluders;  // per record its centre and render::occluder_radius
+        std::vector<float> occluders;  // per record its centre, render::occluder_radius, its bounding radius
         records.reserve(prims.size());
-        occluders.reserve(4 * prims.size());
+        occluders.reserve(8 * prims.size());
         bounds_lo_ = {{1e300, 1e300, 1e300}};
         bounds_hi_ = {{-1e300, -1e300, -1e300}};
         render::grow_by_bounds(prims, bounds_lo_, bounds_hi_);
@@ -106,7 +110,7 @@ public:
             for (const auto& p : prims) {
                 if (static_cast<int>(p.variant) != v) continue;
                 records.push_back(render::pack_record(p));
-                occluders.insert(occluders.end(), {p.shape.center[0], p.shape.center[1], p.shape.center[2], render::occluder_radius(p)});
+                occluders.insert(occluders.end(), {p.shape.center[0], p.shape.center[1], p.shape.center[2], render::occluder_radius(p), p.shape.radius, 0.0f, 0.0f, 0.0f});
                 if (p.variant == render::Variant::planes)
                     for (const auto& pl : p.shape.planes) planes.insert(planes.end(), pl.c, pl.c + 4);
             }
@@ -120,6 +124,7 @@ public:
                          records.empty() ? nullptr : records.data(), GL_STATIC_DRAW);
         upload(occluders_, occluders);
         upload(visible_, std::vector<std::uint32_t>(std::max<std::size_t>(1, records.size())));
+        upload(keep_, std::vector<std::uint32_t>(std::max<std::size_t>(1, records.size())));
         api_->BindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
         count_ = records.size();
         drawn_ = count_;
@@ -289,8 +294,9 @@ private:
 
     /// The compute passes of occlusion culling (quadcast/occlusion.hpp) for a width x height
     /// viewport: the occluders' disks into the depth image, the max-depth pyramid over it, then
-    /// per variant the records that can show into the visible list and the variant's indirect
-    /// draw command {6 n, 1, 0, 4 first, 0} (the vertex stage reads slot first + i).
+    /// per variant the test of every record, then the kept ones in record order into the visible
+    /// list and the variant's indirect draw command {6 n, 1, 0, 4 first, 0} (the vertex stage
+    /// reads slot first + i).
     void run_cull_pass(const render::Camera& cam, int width, int height) {
         const Api& gl = *api_;
         const auto w = static_cast<std::uint32_t>(width), h = static_cast<std::uint32_t>(height);
@@ -300,6 +306,8 @@ private:
             const auto& b = levels.back();
             levels.push_back({b[0] + b[1] * b[2], (b[1] + 1) / 2, (b[2] + 1) / 2});
         }
+        // Earlier frames' and the shadow pass's reads and writes of these buffers are done.
+        gl.MemoryBarrier(GL_ALL_BARRIER_BITS);
         const std::size_t texels = levels.back()[0] + 1;
         if (texels > depth_texels_) {  // grown only (the shadow map's pass and the camera's share it)
             upload(depths_, std::vector<std::uint32_t>(texels));
@@ -314,6 +322,7 @@ private:
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, depths_);
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, visible_);
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, commands_);
+        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, keep_);
         const render::OcclusionRange range = render::occlusion_range(cam);
         auto common = [&](const Program& p) {
             gl.UseProgram(p.id());
@@ -324,7 +333,7 @@ private:
         // 1. Occluders (the variants that have them).
         const Program& occ = programs_.get(render::OcclusionKey{render::OcclusionPass::occluders});
         common(occ);
-        gl.Uniform2f(occ.uniform_location("qc_occluder_range"), range.near, range.far);
+        gl.Uniform3f(occ.uniform_location("qc_occluder_range"), range.near, range.far, range.gap);
         const float right[3] = {cam.view[0][0], cam.view[1][0], cam.view[2][0]}, up[3] = {cam.view[0][1], cam.view[1][1], cam.view[2][1]};
         gl.Uniform3fv(occ.uniform_location("qc_right"), 1, right);
         gl.Uniform3fv(occ.uniform_location("qc_up"), 1, up);
@@ -355,9 +364,20 @@ private:
         gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, commands_);
         gl.BufferData(GL_SHADER_STORAGE_BUFFER, sizeof cmds, cmds, GL_DYNAMIC_DRAW);
         gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
+        // Each variant's workgroup counts at its own offset (16-uint aligned for BindBufferRange).
+        std::uint32_t group_base[render::variant_count] = {};
+        std::uint32_t group_total = 0;
+        for (int v = 0; v < render::variant_count; ++v) {
+            group_base[v] = group_total;
+            group_total += (groups(ranges_[v].second, 64) + 63) / 64 * 64;
+        }
+        if (group_total > group_capacity_) {
+            upload(groups_, std::vector<std::uint32_t>(group_total));
+            group_capacity_ = group_total;
+        }
         const Program& cull = programs_.get(render::OcclusionKey{render::OcclusionPass::cull});
         common(cull);
-        gl.Uniform1i(cull.uniform_location("qc_occlusion"), 1);
+
         gl.Uniform1ui(cull.uniform_location("qc_stats_at"), static_cast<GLuint>(5 * render::variant_count));
         std::vector<GLuint> lv;
         for (const auto& l : levels) lv.insert(lv.end(), l.begin(), l.end());
@@ -369,11 +389,35 @@ private:
             gl.Uniform1ui(cull.uniform_location("qc_first"), ranges_[v].first);
             gl.Uniform1ui(cull.uniform_location("qc_count"), ranges_[v].second);
             gl.Uniform1i(cull.uniform_location("qc_bound"), static_cast<int>(render::rect_bound(static_cast<render::Variant>(v))));
-            gl.Uniform1ui(cull.uniform_location("qc_command_at"), static_cast<GLuint>(5 * v));
+            // The planes variant is not clipped to its bounding sphere (a patch may reach out of
+            // it inside its quad): no nearest distance, frustum culling only.
+            gl.Uniform1i(cull.uniform_location("qc_occlusion"), static_cast<render::Variant>(v) == render::Variant::planes ? 0 : 1);
+            gl.BindBufferRange(GL_SHADER_STORAGE_BUFFER, 7, groups_, static_cast<GLintptr>(group_base[v] * sizeof(std::uint32_t)),
+                               static_cast<GLsizeiptr>(groups(ranges_[v].second, 64) * sizeof(std::uint32_t)));
             gl.DispatchCompute(groups(ranges_[v].second, 64), 1, 1);
         }
-        gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
-        for (int b = 2; b <= 5; ++b) gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, static_cast<GLuint>(b), 0);
+        gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        // 4. Per variant the workgroups' first slots and the command, 5. the kept records in
+        // order into the visible list (each variant's workgroup counts from its own offset).
+        const Program& scan = programs_.get(render::OcclusionKey{render::OcclusionPass::scan});
+        const Program& compact = programs_.get(render::OcclusionKey{render::OcclusionPass::compact});
+        for (int v = 0; v < render::variant_count; ++v) {
+            if (ranges_[v].second == 0) continue;
+            const GLintptr at = static_cast<GLintptr>(group_base[v] * sizeof(std::uint32_t));
+            const GLsizeiptr size = static_cast<GLsizeiptr>(groups(ranges_[v].second, 64) * sizeof(std::uint32_t));
+            gl.BindBufferRange(GL_SHADER_STORAGE_BUFFER, 7, groups_, at, size);
+            gl.UseProgram(scan.id());
+            gl.Uniform1ui(scan.uniform_location("qc_group_count"), groups(ranges_[v].second, 64));
+            gl.Uniform1ui(scan.uniform_location("qc_command_at"), static_cast<GLuint>(5 * v));
+            gl.DispatchCompute(1, 1, 1);
+            gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+            gl.UseProgram(compact.id());
+            gl.Uniform1ui(compact.uniform_location("qc_first"), ranges_[v].first);
+            gl.Uniform1ui(compact.uniform_location("qc_count"), ranges_[v].second);
+            gl.DispatchCompute(groups(ranges_[v].second, 64), 1, 1);
+        }
+        gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+        for (int b = 2; b <= 7; ++b) gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, static_cast<GLuint>(b), 0);
     }
 
     /// The program of variant `v`: forward (with `env`, environment reflection) or, with
@@ -589,7 +633,8 @@ private:
     GLuint gfbo_ = 0, gtex_[3] = {0, 0, 0};  ///< geometry buffer of deferred shading
     GLuint sfbo_ = 0, stex_ = 0;             ///< shadow map
     GLuint etex_ = 0;                        ///< environment map
-    GLuint occluders_ = 0, depths_ = 0, visible_ = 0, commands_ = 0;  ///< occlusion culling
+    GLuint occluders_ = 0, depths_ = 0, visible_ = 0, commands_ = 0, keep_ = 0, groups_ = 0;  ///< occlusion culling
+    std::uint32_t group_capacity_ = 0;
     std::size_t depth_texels_ = 0, drawn_ = 0, frustum_culled_ = 0, occluded_ = 0;
     std::shared_ptr<const render::EnvironmentMap> env_;  ///< the map in etex_
     int shadow_size_ = 0;

@@ -357,7 +357,7 @@ const char* passthrough_fragment =
 /// every pixel, float bits of positive view distances, which order as unsigned integers; no
 /// occluder: 0xffffffff), each level at an offset with its size.
 const char* occlusion_buffers =
-    "layout(std430, binding = 2) readonly buffer qc_Occluders { vec4 qc_occluder[]; };  // centre, radius (0: none)\n"
+    "layout(std430, binding = 2) readonly buffer qc_Occluders { vec4 qc_occluder[]; };  // per record: centre, ball radius (0: none); bounding radius\n"
     "layout(std430, binding = 3) buffer qc_Depths { uint qc_depth[]; };\n"
     "uniform uint qc_first;   // the variant's first record\n"
     "uniform uint qc_count;   // its records\n"
@@ -366,8 +366,8 @@ const char* occlusion_buffers =
     "uniform vec2 qc_viewport;\n"
     "uniform mat4 qc_view_projection;\n";
 
-/// Occlusion pass 1: per record with an occluder ball between the near and far planes
-/// (`occluder_depth`), the pixels whose centres fall in the ellipse its disk projects to
+/// Occlusion pass 1: per record with a usable occluder ball (`occluder_depth`: all of the
+/// primitive beyond the near plane, the disk before the far plane, depths resolved), the pixels whose centres fall in the ellipse its disk projects to
 /// (`occluder_ellipse`, `ellipse_covers`, over `pixel_span` of the ellipse's box) take the disk's
 /// view distance where it is nearer than theirs. Plain loads and stores: any occluder's value is
 /// conservative (quadcast/occlusion.hpp), so a lost race only loosens a pixel.
@@ -381,18 +381,19 @@ Stage occluder_shader() {
     std::ostringstream m;
     m << "layout(local_size_x = 64) in;\n\n" << record_glsl << occlusion_buffers
       << "uniform vec3 qc_right, qc_up;    // first two rows of the world->view rotation\n"
-         "uniform vec2 qc_occluder_range;  // near and far view distances an occluder must lie between\n"
+         "uniform vec3 qc_occluder_range;  // near and far view distances an occluder must lie between, gap (quadcast::render::occlusion_range)\n"
+         "uniform vec4 qc_pz;             // P22, P32, P23, P33 of the projection\n"
          "uniform uint qc_max_pixels;     // larger boxes are left out\n\n"
       << fns.str()
       << "void main()\n{\n"
          "    if (gl_GlobalInvocationID.x >= qc_count) return;\n"
          "    uint prim = qc_first + gl_GlobalInvocationID.x;\n"
-         "    vec4 ball = qc_occluder[prim];\n"
+         "    vec4 ball = qc_occluder[2u * prim];\n"
          "    float r_in = ball.w;\n"
          "    if (!(r_in > 0.0)) return;\n"
          "    vec3 c = ball.xyz;\n"
          "    float s;\n    bool usable;\n"
-         "    qc_occluder_depth(qc_vz_row, qc_vz_t, c, r_in, qc_occluder_range.x, qc_occluder_range.y, s, usable);\n"
+         "    qc_occluder_depth(qc_vz_row, qc_vz_t, c, r_in, qc_occluder[2u * prim + 1u].x, qc_occluder_range.x, qc_occluder_range.y, qc_occluder_range.z, qc_pz, s, usable);\n"
          "    if (!usable) return;\n"
          "    vec2 centre, axes;\n"
          "    qc_occluder_ellipse(qc_view_projection, c, qc_right, qc_up, r_in, centre, axes);\n"
@@ -433,9 +434,9 @@ const char* pyramid_shader =
 /// Occlusion pass 3: per record, its rectangle (`primitive_rect_*` of its variant's bound); a
 /// record whose rectangle is tight and holds no pixel centre of the viewport (`pixel_span`), or
 /// whose nearest view distance (`nearest_distance`) lies beyond the largest occluder depth over
-/// its pixels (read from the pyramid level where they span at most 4 x 4 texels), is culled; the
-/// others are listed in qc_visible from the variant's first slot, counted in its indirect draw
-/// command (6 indices each); the culled ones are counted after the commands.
+/// its pixels (read from the pyramid level where they span at most 4 x 4 texels), is culled
+/// (qc_keep 0, counted after the commands); the others are kept (qc_keep 1 + the kept records
+/// before it in its workgroup of 64), and each workgroup counts its kept ones.
 Stage cull_shader() {
     Stage s;
     std::ostringstream fns;
@@ -446,18 +447,16 @@ Stage cull_shader() {
     add_kernel(s, fns, "nearest_distance");
     std::ostringstream m;
     m << "layout(local_size_x = 64) in;\n\n" << record_glsl << occlusion_buffers
-      << "layout(std430, binding = 4) writeonly buffer qc_Visible { uint qc_visible[]; };\n"
-         "layout(std430, binding = 5) buffer qc_Commands { uint qc_command[]; };  // DrawElementsIndirectCommand per variant\n"
+      << "layout(std430, binding = 5) buffer qc_Commands { uint qc_command[]; };  // DrawElementsIndirectCommand per variant, then statistics\n"
+         "layout(std430, binding = 6) writeonly buffer qc_Keep { uint qc_keep[]; };   // per record: 0 culled, else 1 + its slot in the workgroup\n"
+         "layout(std430, binding = 7) writeonly buffer qc_Groups { uint qc_groups[]; };  // per workgroup of 64 records: the kept ones\n"
          "uniform int qc_bound;        // quadcast::RectBound of the variant\n"
-         "uniform uint qc_command_at;  // the variant's command (uint offset)\n"
          "uniform uint qc_stats_at;    // the counts of primitives culled outside the frustum and behind occluders (uint offset)\n"
          "uniform bool qc_occlusion;   // test against the pyramid (else only the frustum)\n"
          "uniform uvec3 qc_levels[16]; // offset, width, height of each pyramid level\n"
          "uniform int qc_level_count;\n\n"
       << fns.str()
-      << "void main()\n{\n"
-         "    if (gl_GlobalInvocationID.x >= qc_count) return;\n"
-         "    uint prim = qc_first + gl_GlobalInvocationID.x;\n"
+      << "bool qc_kept(uint prim)\n{\n"
          "    qc_Primitive p = qc_prims[prim];\n"
          "    mat4 q = qc_record_quadric(p);\n"
          "    vec3 c = qc_record_center(p);\n"
@@ -468,11 +467,11 @@ Stage cull_shader() {
          "        qc_primitive_rect_slab(qc_view_projection, q, c, qc_record_radius(p), qc_record_axis(p), qc_record_half_length(p), qc_viewport, lo, hi, tight, visible);\n"
          "    else\n"
          "        qc_primitive_rect_sphere(qc_view_projection, q, c, qc_record_radius(p), qc_record_axis(p), qc_record_half_length(p), qc_viewport, lo, hi, tight, visible);\n"
-         "    if (!visible) { atomicAdd(qc_command[qc_stats_at], 1u); return; }  // entirely behind the eye plane\n"
+         "    if (!visible) { atomicAdd(qc_command[qc_stats_at], 1u); return false; }  // entirely behind the eye plane\n"
          "    if (tight) {\n"
          "        vec4 span;\n"
          "        qc_pixel_span(lo, hi, qc_viewport, span);\n"
-         "        if (span.x > span.z || span.y > span.w) { atomicAdd(qc_command[qc_stats_at], 1u); return; }  // no pixel centre of the viewport\n"
+         "        if (span.x > span.z || span.y > span.w) { atomicAdd(qc_command[qc_stats_at], 1u); return false; }  // no pixel centre of the viewport\n"
          "        float nearest;\n"
          "        qc_nearest_distance(qc_vz_row, qc_vz_t, c, qc_record_radius(p), nearest);\n"
          "        if (qc_occlusion && nearest > 0.0) {\n"
@@ -483,15 +482,70 @@ Stage cull_shader() {
          "            uint farthest = 0u;\n"
          "            for (uint y = b.y >> level; y <= (b.w >> level); ++y)\n"
          "                for (uint x = b.x >> level; x <= (b.z >> level); ++x) farthest = max(farthest, qc_depth[l.x + y * l.y + x]);\n"
-         "            if (floatBitsToUint(nearest) > farthest) { atomicAdd(qc_command[qc_stats_at + 1u], 1u); return; }  // behind every occluder over its pixels\n"
+         "            if (floatBitsToUint(nearest) > farthest) { atomicAdd(qc_command[qc_stats_at + 1u], 1u); return false; }  // behind every occluder over its pixels\n"
          "        }\n"
          "    }\n"
-         "    uint slot = atomicAdd(qc_command[qc_command_at], 6u) / 6u;\n"
-         "    qc_visible[qc_first + slot] = prim;\n"
+         "    return true;\n"
+         "}\n\n"
+         "shared uint qc_flags[64];\n\n"
+         "void main()\n{\n"
+         "    uint t = gl_LocalInvocationID.x;\n"
+         "    uint prim = qc_first + gl_GlobalInvocationID.x;\n"
+         "    bool inside = gl_GlobalInvocationID.x < qc_count;\n"
+         "    bool kept = inside && qc_kept(prim);\n"
+         "    qc_flags[t] = kept ? 1u : 0u;\n"
+         "    barrier();\n"
+         "    uint before = 0u;\n"
+         "    for (uint r = 0u; r < t; ++r) before += qc_flags[r];\n"
+         "    if (inside) qc_keep[prim] = kept ? before + 1u : 0u;  // 1 + the kept records before it in the workgroup\n"
+         "    if (t == 63u) qc_groups[gl_WorkGroupID.x] = before + qc_flags[63];\n"
          "}\n";
     s.text = m.str();
     return s;
 }
+
+/// Occlusion pass 4, one workgroup per variant: the workgroup counts of the cull pass become
+/// their first slots in the visible list (an exclusive prefix sum: each of the 64 invocations
+/// sums a contiguous run of counts, then adds the runs before it), and the total the variant's
+/// indirect draw command (6 indices per primitive).
+const char* scan_shader =
+    "layout(local_size_x = 64) in;\n\n"
+    "layout(std430, binding = 5) buffer qc_Commands { uint qc_command[]; };\n"
+    "layout(std430, binding = 7) buffer qc_Groups { uint qc_groups[]; };\n"
+    "uniform uint qc_group_count;  // workgroups of the variant's cull pass\n"
+    "uniform uint qc_command_at;   // the variant's command (uint offset)\n\n"
+    "shared uint qc_runs[64];\n\n"
+    "void main()\n{\n"
+    "    uint t = gl_LocalInvocationID.x;\n"
+    "    uint per = (qc_group_count + 63u) / 64u;\n"
+    "    uint begin = min(t * per, qc_group_count), end = min(begin + per, qc_group_count);\n"
+    "    uint run = 0u;\n"
+    "    for (uint g = begin; g < end; ++g) { uint n = qc_groups[g]; qc_groups[g] = run; run += n; }\n"
+    "    qc_runs[t] = run;\n"
+    "    barrier();\n"
+    "    uint before = 0u;\n"
+    "    for (uint r = 0u; r < t; ++r) before += qc_runs[r];\n"
+    "    for (uint g = begin; g < end; ++g) qc_groups[g] += before;\n"
+    "    if (t == 63u) qc_command[qc_command_at] = 6u * (before + run);\n"
+    "}\n";
+
+/// Occlusion pass 5, a workgroup per 64 records as in the cull pass: each kept record into the
+/// visible list at its workgroup's first slot plus its slot in the workgroup (qc_keep - 1).
+/// In record order, so that primitives at exactly the same depth in a pixel are drawn, and win the
+/// depth test, in the order they are without the cull pass.
+const char* compact_shader =
+    "layout(local_size_x = 64) in;\n\n"
+    "layout(std430, binding = 4) writeonly buffer qc_Visible { uint qc_visible[]; };\n"
+    "layout(std430, binding = 6) readonly buffer qc_Keep { uint qc_keep[]; };\n"
+    "layout(std430, binding = 7) readonly buffer qc_Groups { uint qc_groups[]; };\n"
+    "uniform uint qc_first;  // the variant's first record\n"
+    "uniform uint qc_count;  // its records\n\n"
+    "void main()\n{\n"
+    "    uint i = gl_GlobalInvocationID.x;\n"
+    "    if (i >= qc_count) return;\n"
+    "    uint k = qc_keep[qc_first + i];\n"
+    "    if (k != 0u) qc_visible[qc_first + qc_groups[gl_WorkGroupID.x] + k - 1u] = qc_first + i;\n"
+    "}\n";
 
 }  // namespace
 
@@ -504,10 +558,20 @@ StageText occlusion_stage(const render::OcclusionKey& k) {
         p.text = pyramid_shader;
         return stage_text(StageText::Kind::compute, "qc_depth_pyramid.comp", p, "occlusion culling: one level of the max-depth pyramid");
     }
+    case render::OcclusionPass::scan: {
+        Stage p;
+        p.text = scan_shader;
+        return stage_text(StageText::Kind::compute, "qc_cull_scan.comp", p, "occlusion culling: first slots of the cull pass's workgroups, the indirect draw counts");
+    }
+    case render::OcclusionPass::compact: {
+        Stage p;
+        p.text = compact_shader;
+        return stage_text(StageText::Kind::compute, "qc_compact.comp", p, "occlusion culling: the kept records in order into the visible list");
+    }
     case render::OcclusionPass::cull:
         break;
     }
-    return stage_text(StageText::Kind::compute, "qc_cull.comp", cull_shader(), "occlusion culling: frustum and occlusion test, the visible list and indirect draws");
+    return stage_text(StageText::Kind::compute, "qc_cull.comp", cull_shader(), "occlusion culling: the frustum and occlusion test of every record");
 }
 
 std::vector<StageText> program_stages(const render::QuadricKey& key) {

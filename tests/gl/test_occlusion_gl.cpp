@@ -61,6 +61,41 @@ std::vector<Case> occlusion_cases(int w, int h) {
     // far plane through it (occluders beyond it are not drawn).
     out.push_back({"dense block, near plane through it", block, look_at(vec3(0.5, 0.5, 1.6), vec3(0.5, 0.5, 0.5), vec3(0.0, 1.0, 0.0), qc_render_test::perspective(40, aspect, 0.9, 5))});
     out.push_back({"dense block, far plane through it", block, look_at(vec3(0.5, 0.5, 2.4), vec3(0.5, 0.5, 0.5), vec3(0.0, 1.0, 0.0), qc_render_test::perspective(40, aspect, 1, 2.0))});
+    // A large sphere whose front the near plane cuts away (its centre plane beyond the near
+    // plane): the small spheres behind it show through the cut.
+    {
+        std::vector<Primitive> p{shapes::sphere({0, 0, 0}, 1.0f, {{0.9f, 0.9f, 0.9f}})};
+        std::mt19937 rng(4);
+        std::uniform_real_distribution<float> u(-0.4f, 0.4f);
+        for (int i = 0; i < 40; ++i) p.push_back(shapes::sphere({u(rng), u(rng), -2.0f + u(rng)}, 0.15f));
+        out.push_back({"large sphere cut by the near plane", p, look_at(vec3(0.0, 0.0, 1.0995), vec3(0.0, 0.0, 0.0), vec3(0.0, 1.0, 0.0), qc_render_test::perspective(60, aspect, 0.1, 10))});
+    }
+    // The eye inside a long ellipsoid, small spheres inside it ahead; and an ellipsoid whose quadric
+    // has the other sign (f > 0 inside: with culling on it shows its far wall), spheres inside.
+    {
+        std::vector<Primitive> p{shapes::ellipsoid({0, 0, 0}, {1.0f, 1.0f, 10.0f}, glm::mat3(1.0f), {{0.8f, 0.8f, 0.3f}})};
+        for (int i = 0; i < 12; ++i) p.push_back(shapes::sphere({0.3f * float(i % 3) - 0.3f, 0.3f * float(i / 3 % 2), -2.0f - 0.5f * float(i)}, 0.25f));
+        out.push_back({"eye inside a long ellipsoid", p, look_at(vec3(0.0, 0.0, 5.0), vec3(0.0, 0.0, 0.0), vec3(0.0, 1.0, 0.0), qc_render_test::perspective(50, aspect, 0.5, 30))});
+        Primitive flipped = shapes::sphere({0, 0, 0}, 1.0f, {{0.3f, 0.8f, 0.8f}});
+        flipped.variant = Variant::ellipsoid;
+        for (int j = 0; j < 4; ++j)
+            for (int i = 0; i < 4; ++i) flipped.shape.q.q[j][i] = -flipped.shape.q.q[j][i];
+        std::vector<Primitive> q{flipped};
+        for (int i = 0; i < 8; ++i) q.push_back(shapes::sphere({0.4f * float(i % 3) - 0.4f, 0.4f * float(i / 3) - 0.4f, 0.3f}, 0.1f));
+        out.push_back({"an ellipsoid of the other sign", q, look_at(vec3(0.0, 0.0, 5.0), vec3(0.0, 0.0, 0.0), vec3(0.0, 1.0, 0.0), qc_render_test::perspective(40, aspect, 1, 20))});
+    }
+    // Equal depths: pairs of identical spheres of different colours far apart in the records
+    // (more than a workgroup): the first of each pair wins the depth test, with or without the pass.
+    {
+        std::vector<Primitive> p;
+        std::mt19937 rng(6);
+        std::uniform_real_distribution<float> u(-1.5f, 1.5f);
+        std::vector<glm::vec3> at;
+        for (int i = 0; i < 150; ++i) at.push_back({u(rng), u(rng), u(rng)});
+        for (int i = 0; i < 150; ++i) p.push_back(shapes::sphere(at[i], 0.3f, {{1.0f, 0.2f, 0.2f}}));
+        for (int i = 0; i < 150; ++i) p.push_back(shapes::sphere(at[i], 0.3f, {{0.2f, 0.2f, 1.0f}}));
+        out.push_back({"identical spheres of two colours", p, look_at(vec3(0.0, 0.0, 6.0), vec3(0.0, 0.0, 0.0), vec3(0.0, 1.0, 0.0), qc_render_test::perspective(45, aspect, 1, 20))});
+    }
     // The eye inside the block, among the spheres.
     out.push_back({"dense block, eye inside", block, look_at(vec3(0.5, 0.52, 0.5), vec3(0.9, 0.4, 0.1), vec3(0.0, 1.0, 0.0), qc_render_test::perspective(70, aspect, 0.005, 3))});
     return out;
@@ -97,12 +132,12 @@ TEST_CASE("the occlusion cull pass changes no pixel of the GL renderer") {
                         what, d.covered, d.coverage_diff, d.color_diff, d.depth_diff, drawn, s.prims.size());
             CAPTURE(s.name);
             CAPTURE(what);
-            CHECK(d.covered > 1000);
+            CHECK(d.covered > 300);
             CHECK(d.coverage_diff == 0);
             CHECK(d.color_diff == 0);
             CHECK(d.depth_diff == 0);
             CHECK(drawn <= s.prims.size());
-            if (s.name == "dense block, perspective" || s.name == "dense block, orthographic") CHECK(drawn < s.prims.size() / 2);
+            if (s.name == "dense block, perspective" || s.name == "dense block, orthographic") CHECK(drawn < s.prims.size() * 6 / 10);
         }
     }
 }
@@ -144,8 +179,7 @@ TEST_CASE("the occlusion cull pass keeps exactly what shows in front of a large 
 
 TEST_CASE("occluder balls lie inside their solids") {
     // Independent check: points of the ball (centre + r_in u, u on a sphere grid) are inside the
-    // primitive's quadric (f of the sign it has at the centre, in its local coordinates) for
-    // every occluding shape.
+    // primitive's quadric (f < 0 in its local coordinates) for every occluding shape.
     std::vector<Primitive> prims = dense_block(9, 64);
     int occluders = 0;
     for (const Primitive& p : prims) {
@@ -162,9 +196,15 @@ TEST_CASE("occluder balls lie inside their solids") {
                 // slab caps: the ball must stay within the slab too
                 long double along = 0;
                 for (int a = 0; a < 3; ++a) along += x[a] * p.shape.axis[a];
-                CHECK(f / static_cast<long double>(p.shape.q.q[3][3]) > 0);  // the sign of f at the centre: inside
+                CHECK(f < 0);  // inside as stored (the side front-root selection treats as inside)
                 if (p.variant == Variant::slab) CHECK(std::fabs(along) < p.shape.half_length);
             }
     }
     CHECK(occluders == 48);  // spheres, ellipsoids and capped cylinders: 6 of every 8
+    // An ellipsoid of the other sign (f > 0 inside) does not occlude.
+    Primitive flipped = shapes::sphere({0, 0, 0}, 1.0f);
+    flipped.variant = Variant::ellipsoid;
+    for (int j = 0; j < 4; ++j)
+        for (int i = 0; i < 4; ++i) flipped.shape.q.q[j][i] = -flipped.shape.q.q[j][i];
+    CHECK(quadcast::render::occluder_radius(flipped) == 0.0f);
 }

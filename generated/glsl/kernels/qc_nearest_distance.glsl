@@ -14,6 +14,7 @@ void qc_nearest_distance(in vec3 qc_vz_row, in float qc_vz_t, in vec3 qc_c, in f
     precise float qc_t4 = qc_t2 + qc_t3;
     precise float qc_t5 = qc_vz_t + qc_t4;
     precise float qc_t6 = -qc_t5;
-    precise float qc_t7 = qc_t6 - qc_radius;
-    qc_s = qc_t7;
+    precise float qc_t7 = qc_radius * uintBitsToFloat(0x3F802000u) /* 1.00097656 */;
+    precise float qc_t8 = qc_t6 - qc_t7;
+    qc_s = qc_t8;
 }

@@ -45,7 +45,8 @@ public:
     void set_fragment_stage(FragmentStage s);
     FragmentStage fragment_stage() const;
     /// Depth test of the primitive pass (on by default); off makes every rasterised fragment
-    /// count in `samples_passed`.
+    /// count in `samples_passed`. (A benchmark switch: with RenderOptions::occlusion_culling the
+    /// primitives the cull pass leaves out are not rasterised either, so the picture differs.)
     void set_depth_test(bool on);
     /// Samples that passed (GL_SAMPLES_PASSED) in the primitive pass of the last `draw`.
     std::uint64_t samples_passed() const;

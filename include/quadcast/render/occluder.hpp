@@ -13,31 +13,27 @@
 
 namespace quadcast::render {
 
-/// The radius of a ball around `p.shape.center` inside the primitive's solid, times 1 - 2^-10
-/// (the margin `occluder_covers` relies on); 0 when the primitive does not occlude this way:
+/// The radius of a ball around `p.shape.center` inside the primitive's solid (f < 0 as stored:
+/// the side the fragment stage's front-root selection treats as inside), times 15/16 (the margin
+/// `occluder_ellipse` and `occluder_usable` rely on); 0 when the primitive does not occlude this way:
 /// - sphere variant: the sphere itself (its bounding radius is its radius);
 /// - ellipsoid variant, centred (the shapes' case): the shortest semi-axis sqrt(-k / lambda_max);
 /// - slab variant closed at both ends whose quadric is a centred cylinder along the slab axis
-///   (A axis = 0, b = 0: every section the same ellipse): min(shortest semi-axis, half_length);
+///   (A axis = 0, b = 0: every section the same ellipse): min(shortest semi-axis,
+///   half_length / |axis|) (the slab is |axis . x| <= half_length);
 /// - anything else (open slabs, cones, bounded and planes variants): 0.
 /// `p` must have passed `validate`.
 inline float occluder_radius(const Primitive& p) {
     using namespace validate_detail;
-    constexpr double margin = 1.0 - 1.0 / 1024.0;
+    constexpr double margin = 15.0 / 16.0;
     if (p.variant == Variant::sphere) return static_cast<float>(static_cast<double>(p.shape.radius) * margin);
     if (p.variant != Variant::ellipsoid && p.variant != Variant::slab) return 0.0f;
     M3 a{};
     V3 b{};
     double c = 0;
     split(p.shape.q.q, a, b, c);
-    V3 lam = symmetric_eigenvalues(a);
-    if (lam[2] <= 0) {  // -f: the same surface with the inside f < 0
-        for (int j = 0; j < 3; ++j)
-            for (int i = 0; i < 3; ++i) a[j][i] = -a[j][i];
-        b = -b;
-        c = -c;
-        lam = vec3(-lam[2], -lam[1], -lam[0]);
-    }
+    // As stored: with f > 0 inside, front-root selection shows the far wall (not an occluder).
+    const V3 lam = symmetric_eigenvalues(a);
     const double scale = lam[2];
     if (!(scale > 0) || !(c < 0)) return 0.0f;
     // Centred: |b| small against the size of the form (b = 0 for the shapes' quadrics, up to rounding).
@@ -47,9 +43,9 @@ inline float occluder_radius(const Primitive& p) {
         if (!(lam[0] > 0)) return 0.0f;
     } else {
         if (!(p.shape.caps[0] == 1.0f && p.shape.caps[1] == 1.0f)) return 0.0f;
-        const V3 ax = normalize(cast<double>(p.shape.axis));
-        if (length(a * ax) > 1e-6 * scale || !(lam[1] > 1e-6 * scale)) return 0.0f;
-        r = std::min(r, static_cast<double>(p.shape.half_length));
+        const V3 axis = cast<double>(p.shape.axis), ax = normalize(axis);
+        if (length(a * ax) > 1e-6 * scale || !(lam[0] > -1e-6 * scale) || !(lam[1] > 1e-6 * scale)) return 0.0f;
+        r = std::min(r, static_cast<double>(p.shape.half_length) / length(axis));
     }
     return static_cast<float>(r * margin);
 }
@@ -59,20 +55,36 @@ inline float occluder_radius(const Primitive& p) {
 /// not below 0, so that every depth written is a positive float). Perspective: z_ndc =
 /// (P22 z + P32) / -z gives near = P32 / (P22 - 1), far = P32 / (P22 + 1); orthographic: z_ndc =
 /// P22 z + P32 gives near = (P32 + 1) / P22, far = (P32 - 1) / P22 (in double).
+///
+/// `gap`: the shortest distance along the viewing axis, in units of the disk's radius rho, by
+/// which a ball of radius rho 16/15 lies in front of its central disk of radius rho along any
+/// pixel ray: for a ray at angle theta to the axis crossing the disk at its rim, the smallest
+/// t >= 0 with (rho + t tan theta)^2 + t^2 = (16/15 rho)^2, at the largest tan theta of the view
+/// (its corners; 0 for orthographic cameras), times 0.99.
+/// A projection of another form than glm's perspective, frustum and ortho matrices (x and y
+/// unmixed, z and w free of them, w = -z or 1) gets an empty range: no occluders.
 struct OcclusionRange {
-    float near, far;
+    float near, far, gap;
 };
 
 inline OcclusionRange occlusion_range(const Camera& cam) {
-    // `occluder_ellipse` needs view x and y mapped to NDC x and y without mixing and w free of
-    // them (every perspective and orthographic projection, off-axis ones included); another
-    // projection gets an empty range: no occluders.
+    const OcclusionRange none{1.0f, 0.0f, 0.0f};
     const Mat4<float>& p = cam.projection;
-    if (p[1][0] != 0.0f || p[0][1] != 0.0f || p[0][3] != 0.0f || p[1][3] != 0.0f) return {1.0f, 0.0f};
-    const double p22 = cam.projection[2][2], p32 = cam.projection[3][2];
+    if (p[1][0] != 0.0f || p[0][1] != 0.0f || p[0][2] != 0.0f || p[1][2] != 0.0f || p[0][3] != 0.0f || p[1][3] != 0.0f) return none;
+    if (cam.orthographic ? !(p[2][3] == 0.0f && p[3][3] == 1.0f) : !(p[2][3] == -1.0f && p[3][3] == 0.0f)) return none;
+    const double p22 = p[2][2], p32 = p[3][2];
     const double n = cam.orthographic ? (p32 + 1.0) / p22 : p32 / (p22 - 1.0);
     const double f = cam.orthographic ? (p32 - 1.0) / p22 : p32 / (p22 + 1.0);
-    return {static_cast<float>(std::max(n, 0.0) * (1.0 + 1e-5)), static_cast<float>(f * (1.0 - 1e-5))};
+    if (!(f > n) || !std::isfinite(n) || !std::isfinite(f)) return none;
+    double tan2 = 0.0;
+    if (!cam.orthographic) {
+        const double tx = (1.0 + std::fabs(double(p[2][0]))) / std::fabs(double(p[0][0])), ty = (1.0 + std::fabs(double(p[2][1]))) / std::fabs(double(p[1][1]));
+        tan2 = tx * tx + ty * ty;
+    }
+    const double t = std::sqrt(tan2), R2 = (16.0 / 15.0) * (16.0 / 15.0);
+    const double gap = (-t + std::sqrt(tan2 + (1.0 + tan2) * (R2 - 1.0))) / (1.0 + tan2) * 0.99;
+    if (!(gap > 1e-3)) return none;
+    return {static_cast<float>(std::max(n, 0.0) * (1.0 + 1e-5)), static_cast<float>(f * (1.0 - 1e-5)), static_cast<float>(gap)};
 }
 
 }  // namespace quadcast::render

@@ -116,9 +116,10 @@ struct DeferredKey {
 };
 
 /// A compute pass of occlusion culling (quadcast::gl::QuadricRenderer, quadcast/occlusion.hpp):
-/// the occluders' disks into the depth image, one level of the max-depth pyramid, or the cull
-/// pass that writes the visible primitives and the indirect draw commands.
-enum class OcclusionPass : std::uint8_t { occluders, pyramid, cull };
+/// the occluders' disks into the depth image, one level of the max-depth pyramid, the cull test
+/// of every record, the prefix sum of its workgroups' counts (and the indirect draw commands), or
+/// the compaction of the kept records into the visible list.
+enum class OcclusionPass : std::uint8_t { occluders, pyramid, cull, scan, compact };
 struct OcclusionKey {
     OcclusionPass pass = OcclusionPass::occluders;
     friend constexpr bool operator==(const OcclusionKey&, const OcclusionKey&) = default;
@@ -158,13 +159,13 @@ inline std::string key_name(const IsoKey& k) {
 }
 
 inline std::string key_name(const OcclusionKey& k) {
-    const char* pass = k.pass == OcclusionPass::occluders ? "occluders" : k.pass == OcclusionPass::pyramid ? "pyramid" : "cull";
+    const char* pass = k.pass == OcclusionPass::occluders ? "occluders" : k.pass == OcclusionPass::pyramid ? "pyramid" : k.pass == OcclusionPass::cull ? "cull" : k.pass == OcclusionPass::scan ? "scan" : "compact";
     return std::string("occlusion:") + pass;
 }
 
 /// Every occlusion key a renderer can ask for.
 inline std::vector<OcclusionKey> all_occlusion_keys() {
-    return {{OcclusionPass::occluders}, {OcclusionPass::pyramid}, {OcclusionPass::cull}};
+    return {{OcclusionPass::occluders}, {OcclusionPass::pyramid}, {OcclusionPass::cull}, {OcclusionPass::scan}, {OcclusionPass::compact}};
 }
 
 /// Every canonical quadric key a renderer can ask for.
