@@ -60,6 +60,7 @@ public:
         api_->DeleteVertexArrays(1, &vao_);
         if (query_) api_->DeleteQueries(1, &query_);
         if (fs_query_) api_->DeleteQueries(1, &fs_query_);
+        if (cull_query_) api_->DeleteQueries(1, &cull_query_);
     }
     Impl(const Impl&) = delete;
     Impl& operator=(const Impl&) = delete;
@@ -145,6 +146,7 @@ public:
     /// Draws one frame into the offscreen framebuffer and waits for it (glFinish).
     void draw(const render::Camera& cam, const render::Light& light, const render::RenderOptions& opt) {
         const Api& gl = *api_;
+        cull_ms_ = 0.0;
         ensure_fbo(opt.width, opt.height);
         // Other passes shade forward without environment reflection: with an environment they
         // go through the geometry buffer (the same image for the primitives).
@@ -234,6 +236,7 @@ public:
 
     std::size_t drawn_primitives() const { return drawn_; }
     std::size_t frustum_culled() const { return frustum_culled_; }
+    double cull_pass_ms() const { return cull_ms_; }
     std::size_t occluded() const { return occluded_; }
 
     /// Draws every variant's primitives with the forward or geometry-buffer programs into the
@@ -242,7 +245,15 @@ public:
         const Api& gl = *api_;
         GLint viewport[4] = {0, 0, 1, 1};
         gl.GetIntegerv(GL_VIEWPORT, viewport);
-        if (cull_pass) run_cull_pass(cam, viewport[2], viewport[3]);
+        if (cull_pass) {
+            if (!cull_query_) gl.GenQueries(1, &cull_query_);
+            gl.BeginQuery(GL_TIME_ELAPSED, cull_query_);
+            run_cull_pass(cam, viewport[2], viewport[3]);
+            gl.EndQuery(GL_TIME_ELAPSED);
+            GLuint64 ns = 0;
+            gl.GetQueryObjectui64v(cull_query_, GL_QUERY_RESULT, &ns);
+            cull_ms_ += static_cast<double>(ns) * 1e-6;
+        }
         // The bounding geometry (quads, tetrahedron faces) is a stand-in: the fragment stage
         // computes the depth and keeps only hits in [0, 1]. Without depth clamping GL would clip
         // the stand-in itself at the near and far planes, losing the visible part of a primitive
@@ -635,6 +646,8 @@ private:
     GLuint etex_ = 0;                        ///< environment map
     GLuint occluders_ = 0, depths_ = 0, visible_ = 0, commands_ = 0, keep_ = 0, groups_ = 0;  ///< occlusion culling
     std::uint32_t group_capacity_ = 0;
+    GLuint cull_query_ = 0;
+    double cull_ms_ = 0.0;  ///< GPU time of the last draw's cull passes (GL_TIME_ELAPSED)
     std::size_t depth_texels_ = 0, drawn_ = 0, frustum_culled_ = 0, occluded_ = 0;
     std::shared_ptr<const render::EnvironmentMap> env_;  ///< the map in etex_
     int shadow_size_ = 0;
@@ -674,5 +687,6 @@ std::size_t QuadricRenderer::primitive_count() const { return impl_->primitive_c
 std::size_t QuadricRenderer::drawn_primitives() const { return impl_->drawn_primitives(); }
 std::size_t QuadricRenderer::frustum_culled() const { return impl_->frustum_culled(); }
 std::size_t QuadricRenderer::occluded() const { return impl_->occluded(); }
+double QuadricRenderer::cull_pass_ms() const { return impl_->cull_pass_ms(); }
 
 }  // namespace quadcast::gl

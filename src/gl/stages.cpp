@@ -495,10 +495,13 @@ Stage cull_shader() {
          "    bool kept = inside && qc_kept(prim);\n"
          "    qc_flags[t] = kept ? 1u : 0u;\n"
          "    barrier();\n"
-         "    uint before = 0u;\n"
-         "    for (uint r = 0u; r < t; ++r) before += qc_flags[r];\n"
-         "    if (inside) qc_keep[prim] = kept ? before + 1u : 0u;  // 1 + the kept records before it in the workgroup\n"
-         "    if (t == 63u) qc_groups[gl_WorkGroupID.x] = before + qc_flags[63];\n"
+         "    if (t == 0u) {  // exclusive prefix sum of the workgroup's flags, and its count\n"
+         "        uint run = 0u;\n"
+         "        for (uint r = 0u; r < 64u; ++r) { uint f = qc_flags[r]; qc_flags[r] = run; run += f; }\n"
+         "        qc_groups[gl_WorkGroupID.x] = run;\n"
+         "    }\n"
+         "    barrier();\n"
+         "    if (inside) qc_keep[prim] = kept ? qc_flags[t] + 1u : 0u;  // 1 + the kept records before it in the workgroup\n"
          "}\n";
     s.text = m.str();
     return s;

@@ -85,6 +85,9 @@ public:
     /// (0 without RenderOptions::occlusion_culling).
     std::size_t frustum_culled() const;
     std::size_t occluded() const;
+    /// GPU time (GL_TIME_ELAPSED) of the last `draw`'s cull passes (the camera's and the shadow
+    /// map's), in milliseconds; 0 without RenderOptions::occlusion_culling.
+    double cull_pass_ms() const;
 
 private:
     class Impl;
