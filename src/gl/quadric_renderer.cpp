@@ -245,6 +245,7 @@ public:
         const Api& gl = *api_;
         GLint viewport[4] = {0, 0, 1, 1};
         gl.GetIntegerv(GL_VIEWPORT, viewport);
+        cull_pass = cull_pass && count_ > 0;  // (no primitives: nothing to cull, nothing drawn)
         if (cull_pass) {
             if (!cull_query_) gl.GenQueries(1, &cull_query_);
             gl.BeginQuery(GL_TIME_ELAPSED, cull_query_);

@@ -3,6 +3,7 @@
 // and far planes through occluders), and it culls what is hidden or off screen
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <random>
 
@@ -169,6 +170,17 @@ TEST_CASE("the occlusion cull pass keeps exactly what shows in front of a large 
     CHECK(d.coverage_diff == 0);
     CHECK(d.color_diff == 0);
     CHECK(d.depth_diff == 0);
+    // No primitives: nothing drawn, the background everywhere.
+    {
+        gl::QuadricRenderer empty(ctx.api());
+        empty.set_primitives({});
+        RenderOptions e = o;
+        e.occlusion_culling = true;
+        empty.draw(cam, light, e);
+        CHECK(empty.drawn_primitives() == 0);
+        const Image img = empty.read();
+        CHECK(std::count_if(img.depth.begin(), img.depth.end(), [](float d) { return d < 1.0f; }) == 0);
+    }
     // A skewed projection (view x mixed into NDC y) gets no occluders: only frustum culling.
     Camera skew = cam;
     skew.projection[0][1] = 0.05f;
