@@ -129,7 +129,8 @@ TEST_CASE("open and capped cylinders: the CPU reference draws what an independen
                                                      std::tuple{shapes::Ends::first, true, false, "first"}, std::tuple{shapes::Ends::second, false, true, "second"}}) {
             const std::vector<Primitive> prims = {shapes::cylinder(p0, p1, r, ends)};
             const Camera cam = view_from(vec3(1.5, 5.0, 2.5), ortho);
-            const Comparison c = compare_with(prims, cam, 200, 160, [&](const V3& o, const V3& d) { return tube_hit(o, d, ldv(p0), ldv(p1), r, cap0, cap1); });
+            const bool c0 = cap0, c1 = cap1;  // (Clang 14 cannot capture structured bindings)
+            const Comparison c = compare_with(prims, cam, 200, 160, [&](const V3& o, const V3& d) { return tube_hit(o, d, ldv(p0), ldv(p1), r, c0, c1); });
             std::printf("[open slabs] cylinder, ends %s, %s: %ld reference px, %ld coverage mismatches (%ld interior), %ld depth > 1e-4\n", name,
                         ortho ? "orthographic" : "perspective", c.reference, c.mismatch, c.interior_miss, c.depth_bad);
             CHECK(c.reference > 2000);

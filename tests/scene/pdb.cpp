@@ -28,7 +28,7 @@ bool has_bond(const Molecule& m, int serial_a, int serial_b) {
         if (m.atoms[i].serial == serial_a && a < 0) a = int(i);
         if (m.atoms[i].serial == serial_b && b < 0) b = int(i);
     }
-    const auto [lo, hi] = std::minmax(a, b);
+    const int lo = std::min(a, b), hi = std::max(a, b);  // (Clang 14 cannot capture structured bindings)
     return std::any_of(m.bonds.begin(), m.bonds.end(), [&](const Bond& x) { return x.a == lo && x.b == hi; });
 }
 

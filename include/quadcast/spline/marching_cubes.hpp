@@ -25,7 +25,7 @@
 //   oriented across cells: counter-clockwise seen from the above side (the right-hand normal
 //   points towards larger values, like the gradient).
 //
-// The table is built by a constexpr function (`mc_table`); tests check that every one of the
+// The table is built by a function (`make_table`, into `mc_table`); tests check that every one of the
 // 256 cases closes its polygons. Vertices: one per crossing grid edge, shared by all cells
 // around it, at the root of the linear interpolant along the edge,
 // p = p0 + t (p1 - p0), t = (ρ - f0) / (f1 - f0) (double, rounded to float once); normals: the
@@ -236,8 +236,10 @@ constexpr std::array<McCase, 256> make_table() {
 
 }  // namespace mc_detail
 
-/// The 256 cases, generated at compile time from the face rule at the top of this file.
-inline constexpr std::array<McCase, 256> mc_table = mc_detail::make_table();
+/// The 256 cases, generated from the face rule at the top of this file (by the constexpr
+/// `make_table`, evaluated once at static initialisation: at compile time it exceeds Clang's
+/// default constexpr step limit).
+inline const std::array<McCase, 256> mc_table = mc_detail::make_table();
 
 /// Edge e of a cell: its two corners (lower end first), corner c = (c&1, (c>>1)&1, (c>>2)&1).
 constexpr std::array<int, 2> mc_edge_corners(int e) { return mc_detail::edge_corners(e); }
