@@ -507,10 +507,12 @@ struct OccluderEllipseKernel {
         const Mat4<T> vp = io.template mat<4>("view_projection");
         const Vec3<T> c = io.template vec<3>("c"), right = io.template vec<3>("right"), up = io.template vec<3>("up");
         const T r_in = io.scalar("r_in");
-        Vec2<T> centre{}, axes{};
-        occluder_ellipse(vp, c, right, up, r_in, centre, axes);
+        Vec2<T> centre{}, axes{}, lo{}, hi{};
+        occluder_ellipse(vp, c, right, up, r_in, centre, axes, lo, hi);
         io.out("centre", centre);
         io.out("axes", axes);
+        io.out("lo", lo);
+        io.out("hi", hi);
     }
     static void generate(std::mt19937& rng, std::span<float> in) {
         std::size_t p = 0;

@@ -73,15 +73,18 @@ mask_t<T> occluder_usable(const T& s, const T& r_in, const T& radius, const Vec3
 /// rotation). The caller passes r_in with a margin (the ball's radius times 15/16): rounding
 /// cannot carry a pixel centre out of the disk, and near its rim the surface still lies in front
 /// of it by the `gap` of `occluder_usable`.
+/// Also the ellipse's box [lo, hi] = centre -+ axes.
 /// Numerics: clip = VP (p, 1) (left folds) for p = c, c + right r_in, c + up r_in; ndc = clip.xy / clip.w;
-/// axes = |ndc(c + right r_in).x - ndc(c).x|, |ndc(c + up r_in).y - ndc(c).y|.
+/// axes = |ndc(c + right r_in).x - ndc(c).x|, |ndc(c + up r_in).y - ndc(c).y|; lo, hi per component.
 template <class T>
 void occluder_ellipse(const Mat4<T>& view_projection, const Vec3<T>& c, const Vec3<T>& right, const Vec3<T>& up, const T& r_in,
-                      Vec2<T>& centre, Vec2<T>& axes) {
+                      Vec2<T>& centre, Vec2<T>& axes, Vec2<T>& lo, Vec2<T>& hi) {
     const Vec4<T> m = view_projection * vec4(c, T(1));
     const Vec4<T> a = view_projection * vec4(c + right * r_in, T(1)), b = view_projection * vec4(c + up * r_in, T(1));
     centre = vec2(m[0] / m[3], m[1] / m[3]);
     axes = vec2(abs(a[0] / a[3] - centre[0]), abs(b[1] / b[3] - centre[1]));
+    lo = centre - axes;
+    hi = centre + axes;
 }
 
 /// Whether the centre `frag` (window coordinates) of a pixel of a viewport falls in the NDC

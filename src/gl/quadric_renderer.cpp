@@ -60,7 +60,8 @@ public:
         api_->DeleteVertexArrays(1, &vao_);
         if (query_) api_->DeleteQueries(1, &query_);
         if (fs_query_) api_->DeleteQueries(1, &fs_query_);
-        if (cull_query_) api_->DeleteQueries(1, &cull_query_);
+        for (GLuint q : cull_queries_)
+            if (q) api_->DeleteQueries(1, &q);
     }
     Impl(const Impl&) = delete;
     Impl& operator=(const Impl&) = delete;
@@ -146,7 +147,7 @@ public:
     /// Draws one frame into the offscreen framebuffer and waits for it (glFinish).
     void draw(const render::Camera& cam, const render::Light& light, const render::RenderOptions& opt) {
         const Api& gl = *api_;
-        cull_ms_ = 0.0;
+        cull_queries_used_ = 0;
         ensure_fbo(opt.width, opt.height);
         // Other passes shade forward without environment reflection: with an environment they
         // go through the geometry buffer (the same image for the primitives).
@@ -218,6 +219,12 @@ public:
         gl.BindVertexArray(0);
         gl.Finish();
         check_errors(gl, "QuadricRenderer::draw");
+        cull_ms_ = 0.0;
+        for (int i = 0; i < cull_queries_used_; ++i) {
+            GLuint64 ns = 0;
+            gl.GetQueryObjectui64v(cull_queries_[i], GL_QUERY_RESULT, &ns);
+            cull_ms_ += static_cast<double>(ns) * 1e-6;
+        }
         if (opt.occlusion_culling && count_ > 0) {
             // The primitives the cull pass kept: the index counts of the indirect commands.
             std::uint32_t cmds[5 * render::variant_count + 2];
@@ -246,14 +253,12 @@ public:
         GLint viewport[4] = {0, 0, 1, 1};
         gl.GetIntegerv(GL_VIEWPORT, viewport);
         cull_pass = cull_pass && count_ > 0;  // (no primitives: nothing to cull, nothing drawn)
-        if (cull_pass) {
-            if (!cull_query_) gl.GenQueries(1, &cull_query_);
-            gl.BeginQuery(GL_TIME_ELAPSED, cull_query_);
+        if (cull_pass && cull_queries_used_ < 2) {  // (the shadow map's pass and the camera's; read after the frame)
+            GLuint& q = cull_queries_[cull_queries_used_++];
+            if (!q) gl.GenQueries(1, &q);
+            gl.BeginQuery(GL_TIME_ELAPSED, q);
             run_cull_pass(cam, viewport[2], viewport[3]);
             gl.EndQuery(GL_TIME_ELAPSED);
-            GLuint64 ns = 0;
-            gl.GetQueryObjectui64v(cull_query_, GL_QUERY_RESULT, &ns);
-            cull_ms_ += static_cast<double>(ns) * 1e-6;
         }
         // The bounding geometry (quads, tetrahedron faces) is a stand-in: the fragment stage
         // computes the depth and keeps only hits in [0, 1]. Without depth clamping GL would clip
@@ -647,7 +652,8 @@ private:
     GLuint etex_ = 0;                        ///< environment map
     GLuint occluders_ = 0, depths_ = 0, visible_ = 0, commands_ = 0, keep_ = 0, groups_ = 0;  ///< occlusion culling
     std::uint32_t group_capacity_ = 0;
-    GLuint cull_query_ = 0;
+    GLuint cull_queries_[2] = {0, 0};
+    int cull_queries_used_ = 0;
     double cull_ms_ = 0.0;  ///< GPU time of the last draw's cull passes (GL_TIME_ELAPSED)
     std::size_t depth_texels_ = 0, drawn_ = 0, frustum_culled_ = 0, occluded_ = 0;
     std::shared_ptr<const render::EnvironmentMap> env_;  ///< the map in etex_

@@ -5,7 +5,7 @@
 // Numerics: float; every operation is its own `precise` statement (no contraction, no
 // reassociation); literals are exact; no built-in whose rounding differs from the CPU.
 
-void qc_occluder_ellipse(in mat4 qc_view_projection, in vec3 qc_c, in vec3 qc_right, in vec3 qc_up, in float qc_r_in, out vec2 qc_centre, out vec2 qc_axes)
+void qc_occluder_ellipse(in mat4 qc_view_projection, in vec3 qc_c, in vec3 qc_right, in vec3 qc_up, in float qc_r_in, out vec2 qc_centre, out vec2 qc_axes, out vec2 qc_lo, out vec2 qc_hi)
 {
     precise float qc_t0 = qc_view_projection[0][0] * qc_c.x;
     precise float qc_t1 = qc_view_projection[1][0] * qc_c.y;
@@ -76,4 +76,12 @@ void qc_occluder_ellipse(in mat4 qc_view_projection, in vec3 qc_c, in vec3 qc_ri
     precise float qc_t63 = qc_t62 - qc_t22;
     precise float qc_t64 = abs(qc_t63);
     qc_axes.y = qc_t64;
+    precise float qc_t65 = qc_t14 - qc_t43;
+    qc_lo.x = qc_t65;
+    precise float qc_t66 = qc_t22 - qc_t64;
+    qc_lo.y = qc_t66;
+    precise float qc_t67 = qc_t14 + qc_t43;
+    qc_hi.x = qc_t67;
+    precise float qc_t68 = qc_t22 + qc_t64;
+    qc_hi.y = qc_t68;
 }
