@@ -148,6 +148,7 @@ public:
     void draw(const render::Camera& cam, const render::Light& light, const render::RenderOptions& opt) {
         const Api& gl = *api_;
         cull_queries_used_ = 0;
+        cull_ms_ = 0.0;
         ensure_fbo(opt.width, opt.height);
         // Other passes shade forward without environment reflection: with an environment they
         // go through the geometry buffer (the same image for the primitives).
@@ -219,12 +220,6 @@ public:
         gl.BindVertexArray(0);
         gl.Finish();
         check_errors(gl, "QuadricRenderer::draw");
-        cull_ms_ = 0.0;
-        for (int i = 0; i < cull_queries_used_; ++i) {
-            GLuint64 ns = 0;
-            gl.GetQueryObjectui64v(cull_queries_[i], GL_QUERY_RESULT, &ns);
-            cull_ms_ += static_cast<double>(ns) * 1e-6;
-        }
         if (opt.occlusion_culling && count_ > 0) {
             // The primitives the cull pass kept: the index counts of the indirect commands.
             std::uint32_t cmds[5 * render::variant_count + 2];
@@ -253,12 +248,17 @@ public:
         GLint viewport[4] = {0, 0, 1, 1};
         gl.GetIntegerv(GL_VIEWPORT, viewport);
         cull_pass = cull_pass && count_ > 0;  // (no primitives: nothing to cull, nothing drawn)
-        if (cull_pass && cull_queries_used_ < 2) {  // (the shadow map's pass and the camera's; read after the frame)
+        if (cull_pass && cull_queries_used_ < 2) {  // (the shadow map's pass and the camera's)
             GLuint& q = cull_queries_[cull_queries_used_++];
             if (!q) gl.GenQueries(1, &q);
             gl.BeginQuery(GL_TIME_ELAPSED, q);
             run_cull_pass(cam, viewport[2], viewport[3]);
             gl.EndQuery(GL_TIME_ELAPSED);
+            // Read now: the indirect draws wait for the cull pass anyway, and llvmpipe's elapsed
+            // time read after the frame also counted the draws queued behind it.
+            GLuint64 ns = 0;
+            gl.GetQueryObjectui64v(q, GL_QUERY_RESULT, &ns);
+            cull_ms_ += static_cast<double>(ns) * 1e-6;
         }
         // The bounding geometry (quads, tetrahedron faces) is a stand-in: the fragment stage
         // computes the depth and keeps only hits in [0, 1]. Without depth clamping GL would clip
