@@ -1,0 +1,92 @@
+// quadcast/slim/build.hpp -- the greedy ball cover of a SLIM surface, with sharp features
+#pragma once
+
+// Ohtake, Belyaev & Alexa 2005, sec. 3, as built here:
+//  1. E = error * (bounding-box diagonal). Points go into a uniform grid (cells of about 8
+//     points; Debian ships no kd-tree we link already, nanoflann is not a dependency).
+//  2. Seeds are visited in a seeded random permutation (std::mt19937_64 + Fisher-Yates on the
+//     top 53 bits: the same order on every platform); a seed already covered is skipped.
+//  3. Per seed p: the ball (p, r). r starts at initial_radius * diagonal (at least the distance
+//     of the min_points-th nearest point), grows by 1.5 while the fit is accepted (at most
+//     max_radius * diagonal), shrinks by 0.6 while it is not (down to the min_points radius),
+//     then two bisection steps (geometric mean) between the largest accepted and the smallest
+//     rejected radius. Accepted: the fit (quadcast/slim/fit.hpp) solved, oriented along every
+//     normal, and every point of the ball within E (gradient-line distance).
+//  4. Sharp features: when the single quadric is rejected, the normals are split by 2-means
+//     (seeded by the normal farthest from the mean and the one farthest from that, 10 rounds).
+//     If the cluster means are more than sharp_angle apart and each cluster holds at least
+//     max(min_points, sharp_min_fraction * n) points, each cluster gets its own quadric, and
+//     the ball becomes TWO records with the same centre and radius, each with a clip plane
+//     (Stoll et al. 2006, fig. 8: the surface is the quadric's part on the plane's positive
+//     side). The planes are one plane with opposite signs: normal m = (n1 - n2) / |n1 - n2|
+//     (n1, n2 the cluster means; it bisects the dihedral angle), offset the 1-D threshold along
+//     m that misclassifies the fewest points of the two clusters. Accepted when both fits are
+//     and the plane puts at most sharp_max_misclassified of the points on the wrong side (a
+//     corner's three faces split into two clusters are not separable by one plane). Note that an
+//     edge of two planar faces is often ONE quadric already: the plane pair x y = 0.
+//  5. When even the min_points ball is rejected it is kept anyway ("forced"; counted).
+//  6. The points within cover_fraction * r of the centre are marked covered by that record
+//     (by their cluster's record in a sharp pair); repeat until every point is covered.
+// Threads (TBB): batches of the next uncovered seeds are fitted in parallel and committed in
+// seed order; a seed covered by an earlier ball of its batch is dropped. A seed's ball depends
+// only on the seed and the points, so the result is the sequential algorithm's, bit for bit,
+// for any thread count.
+
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include "quadcast/slim/fit.hpp"
+#include "quadcast/slim/model.hpp"
+#include "quadcast/slim/points.hpp"
+
+namespace quadcast::slim {
+
+struct BuildProgress {
+    std::size_t covered = 0, total = 0, balls = 0;
+};
+
+struct BuildOptions {
+    double error = 1e-3;               ///< E relative to the bounding-box diagonal; > 0
+    double cover_fraction = 0.5;       ///< points within this fraction of r are covered
+    double initial_radius = 0.02;      ///< relative to the diagonal
+    double max_radius = 0.25;          ///< relative to the diagonal
+    std::size_t min_points = 12;       ///< fewest points in a ball (>= 10)
+    bool sharp_features = true;
+    double sharp_angle_degrees = 60;
+    double sharp_min_fraction = 0.1;
+    double sharp_max_misclassified = 0.02;  ///< fraction of the ball's points the plane may put on the wrong side
+    std::uint64_t seed = 1;
+    int threads = 0;                   ///< 0: TBB's default
+    FitOptions fit;
+    std::function<void(const BuildProgress&)> progress;  ///< after each batch, from the calling thread
+};
+
+struct BuildStats {
+    std::size_t points = 0;
+    std::size_t balls = 0;             ///< records (a sharp pair is two)
+    std::size_t sharp_pairs = 0;
+    std::size_t forced = 0;            ///< records kept although their fit exceeds E
+    std::size_t fits = 0;              ///< quadric fits computed (dropped seeds included)
+    std::size_t dropped_seeds = 0;     ///< computed in a batch, then covered by an earlier ball
+    double diagonal = 0;               ///< of the points' bounding box
+    double threshold = 0;              ///< E in world units
+    double seconds = 0;
+    double rms_distance = 0;           ///< over the input points, to the surface of the record that covers them
+    double max_distance = 0;
+    std::size_t over_threshold = 0;    ///< input points farther than E from their covering record's surface
+};
+
+struct BuildResult {
+    Model model;
+    BuildStats stats;
+    std::vector<std::uint32_t> covered_by;  ///< per input point, the index of its record
+};
+
+/// Builds the SLIM model of oriented points. Throws std::invalid_argument naming the option
+/// ("quadcast::slim::build: error must be positive and finite (got 0)") or when there are fewer
+/// than min_points points.
+BuildResult build(const OrientedPoints& points, const BuildOptions& options);
+
+}  // namespace quadcast::slim

@@ -1,0 +1,379 @@
+// src/slim/build.cpp -- the greedy ball cover of a SLIM surface, with sharp features
+#include "quadcast/slim/build.hpp"
+
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <random>
+#include <stdexcept>
+#include <string>
+
+namespace quadcast::slim {
+
+namespace {
+
+/// A uniform grid over the points' bounding box: cells in x-fastest order, each cell's points
+/// in index order (so every query returns its points in the same order).
+class PointGrid {
+public:
+    PointGrid(const std::vector<Vec3d>& p, const Vec3d& lo, const Vec3d& hi) : p_(p), lo_(lo) {
+        const Vec3d ext = hi - lo;
+        const double vol_side = std::max({ext[0], ext[1], ext[2], 1e-300});
+        // About 8 points per occupied cell on a surface: N / 8 cells on the largest face.
+        const double cells_on_face = std::max(1.0, double(p.size()) / 8.0);
+        h_ = vol_side / std::max(1.0, std::sqrt(cells_on_face));
+        for (int k = 0; k < 3; ++k) n_[k] = std::max(1, std::min(1024, int(std::ceil(ext[k] / h_)) + 1));
+        start_.assign(std::size_t(n_[0]) * std::size_t(n_[1]) * std::size_t(n_[2]) + 1, 0);
+        std::vector<std::uint32_t> cell(p.size());
+        for (std::size_t i = 0; i < p.size(); ++i) {
+            cell[i] = std::uint32_t(index(p[i]));
+            ++start_[cell[i] + 1];
+        }
+        for (std::size_t c = 1; c < start_.size(); ++c) start_[c] += start_[c - 1];
+        items_.resize(p.size());
+        std::vector<std::uint32_t> fill(start_.begin(), start_.end() - 1);
+        for (std::size_t i = 0; i < p.size(); ++i) items_[fill[cell[i]]++] = std::uint32_t(i);
+    }
+
+    /// The points within distance r of c (|p - c| <= r), appended to `out` (cleared first).
+    void query(const Vec3d& c, double r, std::vector<std::uint32_t>& out) const {
+        out.clear();
+        int a[3], b[3];
+        for (int k = 0; k < 3; ++k) {
+            a[k] = std::clamp(int(std::floor((c[k] - r - lo_[k]) / h_)), 0, n_[k] - 1);
+            b[k] = std::clamp(int(std::floor((c[k] + r - lo_[k]) / h_)), 0, n_[k] - 1);
+        }
+        const double r2 = r * r;
+        for (int z = a[2]; z <= b[2]; ++z)
+            for (int y = a[1]; y <= b[1]; ++y)
+                for (int x = a[0]; x <= b[0]; ++x) {
+                    const std::size_t cell = (std::size_t(z) * std::size_t(n_[1]) + std::size_t(y)) * std::size_t(n_[0]) + std::size_t(x);
+                    for (std::uint32_t k = start_[cell]; k < start_[cell + 1]; ++k) {
+                        const std::uint32_t i = items_[k];
+                        const Vec3d d = p_[i] - c;
+                        if (dot(d, d) <= r2) out.push_back(i);
+                    }
+                }
+    }
+
+private:
+    std::size_t index(const Vec3d& x) const {
+        int c[3];
+        for (int k = 0; k < 3; ++k) c[k] = std::clamp(int(std::floor((x[k] - lo_[k]) / h_)), 0, n_[k] - 1);
+        return (std::size_t(c[2]) * std::size_t(n_[1]) + std::size_t(c[1])) * std::size_t(n_[0]) + std::size_t(c[0]);
+    }
+
+    const std::vector<Vec3d>& p_;
+    Vec3d lo_;
+    double h_ = 1;
+    int n_[3] = {1, 1, 1};
+    std::vector<std::uint32_t> start_, items_;
+};
+
+/// A record being built: the world ball and the local fit (kept for the statistics).
+struct Record {
+    Ball ball;
+    Quadric<double> local;
+};
+
+/// What one seed produces: 1 record, or 2 for a sharp pair; `side[i]` = record (0/1) of each
+/// ball point (for the covering); `forced` when the fit exceeded E.
+struct SeedResult {
+    std::vector<Record> records;
+    std::vector<std::uint32_t> points;   ///< the ball's points
+    std::vector<unsigned char> side;
+    double radius = 0;
+    bool forced = false;
+    std::size_t fits = 0;
+};
+
+struct Context {
+    const OrientedPoints& pts;
+    const BuildOptions& opt;
+    const PointGrid& grid;
+    double diagonal, threshold;
+};
+
+Record make_record(const LocalFit& f, const Vec3d& c, double r) {
+    Record rec;
+    rec.local = f.local;
+    rec.ball.center = c;
+    rec.ball.radius = r;
+    rec.ball.q = local_to_world(f.local, c, r);
+    return rec;
+}
+
+/// 2-means of the normals of `idx`: labels 0/1 and the unit cluster means.
+void two_means(const std::vector<Vec3d>& n, const std::vector<std::uint32_t>& idx, std::vector<unsigned char>& label, Vec3d& m0,
+               Vec3d& m1) {
+    Vec3d mean = vec3(0.0, 0.0, 0.0);
+    for (const std::uint32_t i : idx) mean = mean + n[i];
+    // Seeds: the normal farthest from the mean, then the one farthest from it.
+    std::size_t a = 0, b = 0;
+    for (std::size_t k = 1; k < idx.size(); ++k)
+        if (dot(n[idx[k]], mean) < dot(n[idx[a]], mean)) a = k;
+    for (std::size_t k = 1; k < idx.size(); ++k)
+        if (dot(n[idx[k]], n[idx[a]]) < dot(n[idx[b]], n[idx[a]])) b = k;
+    m0 = n[idx[a]];
+    m1 = n[idx[b]];
+    label.assign(idx.size(), 0);
+    for (int round = 0; round < 10; ++round) {
+        Vec3d s0 = vec3(0.0, 0.0, 0.0), s1 = s0;
+        for (std::size_t k = 0; k < idx.size(); ++k) {
+            label[k] = dot(n[idx[k]], m1) > dot(n[idx[k]], m0) ? 1 : 0;
+            if (label[k]) s1 = s1 + n[idx[k]];
+            else s0 = s0 + n[idx[k]];
+        }
+        if (!(length(s0) > 0) || !(length(s1) > 0)) return;
+        m0 = normalize(s0);
+        m1 = normalize(s1);
+    }
+}
+
+/// Tries the ball (c, r) of `points`: a single quadric, else a sharp pair. `ok` when accepted.
+bool attempt(const Context& cx, const Vec3d& c, double r, const std::vector<std::uint32_t>& idx, SeedResult& out) {
+    const auto& P = cx.pts.positions;
+    const auto& N = cx.pts.normals;
+    out.records.clear();
+    out.points = idx;
+    out.side.assign(idx.size(), 0);
+    out.radius = r;
+    ++out.fits;
+    const LocalFit single = fit_ball(P, N, idx, c, r, cx.opt.fit);
+    const bool single_ok = single.solved && single.oriented && single.max_distance <= cx.threshold;
+    if (single.solved) out.records.push_back(make_record(single, c, r));
+    if (single_ok || !cx.opt.sharp_features) return single_ok;
+    // Split the normals; a pair needs two distinct, large enough clusters.
+    std::vector<unsigned char> label;
+    Vec3d m0{}, m1{};
+    two_means(N, idx, label, m0, m1);
+    const double cos_max = std::cos(cx.opt.sharp_angle_degrees * std::numbers::pi / 180);
+    if (!(dot(m0, m1) < cos_max)) return false;
+    std::vector<std::uint32_t> side[2];
+    for (std::size_t k = 0; k < idx.size(); ++k) side[label[k]].push_back(idx[k]);
+    const std::size_t need = std::max(cx.opt.min_points, std::size_t(std::ceil(cx.opt.sharp_min_fraction * double(idx.size()))));
+    if (side[0].size() < need || side[1].size() < need) return false;
+    out.fits += 2;
+    const LocalFit f0 = fit_ball(P, N, side[0], c, r, cx.opt.fit), f1 = fit_ball(P, N, side[1], c, r, cx.opt.fit);
+    const auto good = [&](const LocalFit& f) { return f.solved && f.oriented && f.max_distance <= cx.threshold; };
+    if (!good(f0) || !good(f1)) return false;
+    // The clip plane: along m = (m0 - m1) / |m0 - m1|, the threshold with the fewest points of
+    // cluster 0 below it and of cluster 1 above it (or the reverse orientation, whichever is better).
+    const Vec3d m = normalize(m0 - m1);
+    std::vector<std::pair<double, unsigned char>> proj(idx.size());
+    for (std::size_t k = 0; k < idx.size(); ++k) proj[k] = {dot(m, P[idx[k]] - c), label[k]};
+    std::sort(proj.begin(), proj.end());
+    // Errors for "cluster 0 on the positive side" at split j (points [0, j) negative).
+    std::size_t n0_below = 0, n1_below = 0;
+    const std::size_t n0 = side[0].size(), n1 = side[1].size();
+    std::size_t best_err = std::numeric_limits<std::size_t>::max(), best_j = 0;
+    bool best_flip = false;
+    for (std::size_t j = 0; j <= proj.size(); ++j) {
+        if (j > 0) (proj[j - 1].second ? n1_below : n0_below)++;
+        if (j > 0 && j < proj.size() && proj[j].first == proj[j - 1].first) continue;
+        const std::size_t e_pos = n0_below + (n1 - n1_below);   // cluster 0 above
+        const std::size_t e_neg = n1_below + (n0 - n0_below);   // cluster 0 below
+        if (e_pos < best_err) { best_err = e_pos; best_j = j; best_flip = false; }
+        if (e_neg < best_err) { best_err = e_neg; best_j = j; best_flip = true; }
+    }
+    // A split the plane cannot make (e.g. a corner's three faces in two clusters) is no pair.
+    if (double(best_err) > cx.opt.sharp_max_misclassified * double(idx.size())) return false;
+    double t;
+    if (best_j == 0) t = proj.front().first - 1e-9 * r;
+    else if (best_j == proj.size()) t = proj.back().first + 1e-9 * r;
+    else t = 0.5 * (proj[best_j - 1].first + proj[best_j].first);
+    // Plane of cluster 0 (world): s (m . (x - c) - t) >= 0, s = +1 unless flipped.
+    const double s = best_flip ? -1.0 : 1.0;
+    const Vec4d plane0 = vec4(m * s, -s * (dot(m, c) + t));
+    out.records.clear();
+    out.records.push_back(make_record(f0, c, r));
+    out.records.push_back(make_record(f1, c, r));
+    out.records[0].ball.has_plane = out.records[1].ball.has_plane = true;
+    out.records[0].ball.plane = plane0;
+    out.records[1].ball.plane = -plane0;
+    out.side = label;
+    return true;
+}
+
+/// The ball of one seed (see build.hpp, step 3).
+SeedResult grow_ball(const Context& cx, std::uint32_t seed) {
+    const Vec3d c = cx.pts.positions[seed];
+    std::vector<std::uint32_t> idx;
+    // The radius holding min_points points.
+    double r = cx.opt.initial_radius * cx.diagonal;
+    cx.grid.query(c, r, idx);
+    while (idx.size() < cx.opt.min_points) {
+        r *= 2;
+        cx.grid.query(c, r, idx);
+    }
+    std::vector<double> d2(idx.size());
+    for (std::size_t k = 0; k < idx.size(); ++k) d2[k] = dot(cx.pts.positions[idx[k]] - c, cx.pts.positions[idx[k]] - c);
+    std::nth_element(d2.begin(), d2.begin() + long(cx.opt.min_points - 1), d2.end());
+    const double r_min = std::sqrt(d2[cx.opt.min_points - 1]) * (1 + 1e-12);
+    const double r_max = std::max(r_min, cx.opt.max_radius * cx.diagonal);
+    r = std::clamp(cx.opt.initial_radius * cx.diagonal, r_min, r_max);
+
+    SeedResult best, cur;
+    std::size_t fits = 0;
+    const auto run = [&](double radius) {
+        cx.grid.query(c, radius, idx);
+        const bool ok = attempt(cx, c, radius, idx, cur);
+        fits += cur.fits;
+        cur.fits = 0;
+        return ok;
+    };
+    double lo = 0, hi = 0;  // largest accepted, smallest rejected radius
+    if (run(r)) {
+        best = cur;
+        lo = r;
+        while (lo < r_max) {
+            const double next = std::min(lo * 1.5, r_max);
+            if (run(next)) { best = cur; lo = next; }
+            else { hi = next; break; }
+        }
+    } else {
+        hi = r;
+        SeedResult first = cur;
+        while (hi > r_min) {
+            const double next = std::max(hi * 0.6, r_min);
+            if (run(next)) { best = cur; lo = next; break; }
+            hi = next;
+            if (next == r_min) first = cur;
+        }
+        if (lo == 0) {
+            // Even the smallest ball is rejected: keep its single quadric (forced).
+            best = first;
+            if (best.records.size() > 1) best.records.resize(1);
+            best.side.assign(best.points.size(), 0);
+            best.forced = true;
+            best.fits = fits;
+            return best;
+        }
+    }
+    // Two bisection steps between lo (accepted) and hi (rejected).
+    for (int step = 0; step < 2 && hi > 0; ++step) {
+        const double mid = std::sqrt(lo * hi);
+        if (run(mid)) { best = cur; lo = mid; }
+        else hi = mid;
+    }
+    best.fits = fits;
+    return best;
+}
+
+std::vector<std::uint32_t> seed_order(std::size_t n, std::uint64_t seed) {
+    std::vector<std::uint32_t> p(n);
+    for (std::size_t i = 0; i < n; ++i) p[i] = std::uint32_t(i);
+    std::mt19937_64 rng(seed);
+    for (std::size_t i = n; i > 1; --i) {
+        const std::size_t j = std::size_t(double(rng() >> 11) * 0x1.0p-53 * double(i));
+        std::swap(p[i - 1], p[std::min(j, i - 1)]);
+    }
+    return p;
+}
+
+[[noreturn]] void bad_option(const std::string& what) { throw std::invalid_argument("quadcast::slim::build: " + what); }
+
+}  // namespace
+
+BuildResult build(const OrientedPoints& points, const BuildOptions& options) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const auto num = [](double x) { return std::to_string(x); };
+    if (!(options.error > 0) || !std::isfinite(options.error)) bad_option("error must be positive and finite (got " + num(options.error) + ")");
+    if (!(options.cover_fraction > 0 && options.cover_fraction <= 1)) bad_option("cover_fraction must be in (0, 1]");
+    if (!(options.initial_radius > 0) || !(options.max_radius >= options.initial_radius)) bad_option("need 0 < initial_radius <= max_radius");
+    if (options.min_points < min_fit_points) bad_option("min_points must be at least " + std::to_string(min_fit_points));
+    if (points.size() < options.min_points)
+        bad_option(points.file + ": " + std::to_string(points.size()) + " points; a ball needs at least " + std::to_string(options.min_points));
+    if (points.size() > std::numeric_limits<std::uint32_t>::max() / 2) bad_option("too many points");
+
+    // Bounding box, E, grid.
+    Vec3d lo = points.positions[0], hi = lo;
+    for (const Vec3d& p : points.positions)
+        for (int k = 0; k < 3; ++k) { lo[k] = std::min(lo[k], p[k]); hi[k] = std::max(hi[k], p[k]); }
+    BuildResult res;
+    BuildStats& st = res.stats;
+    st.points = points.size();
+    st.diagonal = length(hi - lo);
+    if (!(st.diagonal > 0)) bad_option(points.file + ": all points coincide");
+    st.threshold = options.error * st.diagonal;
+    const PointGrid grid(points.positions, lo, hi);
+    const Context cx{points, options, grid, st.diagonal, st.threshold};
+
+    const std::uint32_t none = std::numeric_limits<std::uint32_t>::max();
+    res.covered_by.assign(points.size(), none);
+    std::vector<Quadric<double>> locals;
+    const std::vector<std::uint32_t> order = seed_order(points.size(), options.seed);
+    std::size_t cursor = 0, covered = 0;
+    tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
+    const std::size_t batch_size = std::size_t(std::max(1, arena.max_concurrency())) * 4;
+    std::vector<std::uint32_t> batch;
+    std::vector<SeedResult> results;
+    while (covered < points.size()) {
+        // The next uncovered seeds, in order.
+        batch.clear();
+        while (cursor < order.size() && batch.size() < batch_size) {
+            if (res.covered_by[order[cursor]] == none) batch.push_back(order[cursor]);
+            ++cursor;
+        }
+        if (batch.empty()) break;
+        results.assign(batch.size(), SeedResult{});
+        arena.execute([&] {
+            tbb::parallel_for(std::size_t(0), batch.size(), [&](std::size_t k) { results[k] = grow_ball(cx, batch[k]); });
+        });
+        // Commit in seed order.
+        for (std::size_t k = 0; k < batch.size(); ++k) {
+            SeedResult& r = results[k];
+            st.fits += r.fits;
+            if (res.covered_by[batch[k]] != none) { ++st.dropped_seeds; continue; }
+            const std::uint32_t first = std::uint32_t(res.model.balls.size());
+            if (r.records.empty()) {
+                // No fit at all (degenerate points): the seed alone is marked, by no record.
+                res.covered_by[batch[k]] = none - 1;
+                ++covered;
+                continue;
+            }
+            for (Record& rec : r.records) {
+                res.model.balls.push_back(rec.ball);
+                locals.push_back(rec.local);
+            }
+            if (r.records.size() == 2) ++st.sharp_pairs;
+            if (r.forced) ++st.forced;
+            const Vec3d c = points.positions[batch[k]];
+            const double rc2 = (options.cover_fraction * r.radius) * (options.cover_fraction * r.radius);
+            for (std::size_t j = 0; j < r.points.size(); ++j) {
+                const std::uint32_t i = r.points[j];
+                const Vec3d d = points.positions[i] - c;
+                if ((dot(d, d) <= rc2 || i == batch[k]) && res.covered_by[i] == none) {
+                    res.covered_by[i] = first + std::uint32_t(r.side[j] < r.records.size() ? r.side[j] : 0);
+                    ++covered;
+                }
+            }
+        }
+        if (options.progress) options.progress(BuildProgress{covered, points.size(), res.model.balls.size()});
+    }
+    st.balls = res.model.balls.size();
+
+    // Distances of the input points to their covering record's surface.
+    double sum2 = 0;
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        const std::uint32_t b = res.covered_by[i];
+        double d = std::numeric_limits<double>::infinity();
+        if (b < locals.size()) {
+            const Ball& ball = res.model.balls[b];
+            d = gradient_line_distance(locals[b], (points.positions[i] - ball.center) * (1 / ball.radius)) * ball.radius;
+        }
+        if (d > st.threshold) ++st.over_threshold;
+        st.max_distance = std::max(st.max_distance, d);
+        sum2 += d * d;
+    }
+    st.rms_distance = std::sqrt(sum2 / double(points.size()));
+    st.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return res;
+}
+
+}  // namespace quadcast::slim

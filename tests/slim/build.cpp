@@ -1,0 +1,213 @@
+// tests/slim/build.cpp -- the ball cover: surfaces within the threshold, determinism, sharp features, options
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <random>
+#include <sstream>
+#include <stdexcept>
+
+#include "quadcast/slim/build.hpp"
+
+using namespace quadcast;
+using namespace quadcast::slim;
+
+namespace {
+
+using V3L = Vec<long double, 3>;
+
+V3L to_long(const Vec3d& v) { return vec3((long double)v[0], (long double)v[1], (long double)v[2]); }
+
+/// Uniform points on the ellipsoid with semi-axes a around c (normals outward), `n` of them.
+OrientedPoints ellipsoid_points(const Vec3d& c, const Vec3d& a, int n, std::uint64_t seed) {
+    OrientedPoints p;
+    p.file = "ellipsoid";
+    std::mt19937_64 rng(seed);
+    std::normal_distribution<double> g;
+    for (int i = 0; i < n; ++i) {
+        Vec3d d = normalize(vec3(g(rng), g(rng), g(rng)));
+        const Vec3d x = vec3(a[0] * d[0], a[1] * d[1], a[2] * d[2]);
+        p.positions.push_back(c + x);
+        p.normals.push_back(normalize(vec3(x[0] / (a[0] * a[0]), x[1] / (a[1] * a[1]), x[2] / (a[2] * a[2]))));
+    }
+    return p;
+}
+
+/// Euclidean distance from y to the ellipsoid sum (x_i / a_i)^2 = 1 (centred), in long double:
+/// the closest point x_i = a_i^2 y_i / (t + a_i^2) with t the root of
+/// F(t) = sum (a_i y_i / (t + a_i^2))^2 - 1 on (-a_min^2, inf), found by bisection (Eberly's bracket).
+long double ellipsoid_distance(const V3L& y0, const Vec3d& a) {
+    V3L y;
+    for (int i = 0; i < 3; ++i) y[i] = std::fabs(y0[i]) + 1e-30L;
+    int m = 0;
+    for (int i = 1; i < 3; ++i)
+        if (a[i] < a[m]) m = i;
+    const long double am2 = (long double)a[m] * a[m];
+    long double s = 0;
+    for (int i = 0; i < 3; ++i) s += (long double)a[i] * a[i] * y[i] * y[i];
+    long double lo = -am2 + (long double)a[m] * y[m], hi = -am2 + std::sqrt(s);
+    const auto F = [&](long double t) {
+        long double f = -1;
+        for (int i = 0; i < 3; ++i) {
+            const long double q = (long double)a[i] * y[i] / (t + (long double)a[i] * a[i]);
+            f += q * q;
+        }
+        return f;
+    };
+    for (int it = 0; it < 200; ++it) {
+        const long double mid = 0.5L * (lo + hi);
+        (F(mid) > 0 ? lo : hi) = mid;
+    }
+    const long double t = 0.5L * (lo + hi);
+    long double d2 = 0;
+    for (int i = 0; i < 3; ++i) {
+        const long double x = (long double)a[i] * a[i] * y[i] / (t + (long double)a[i] * a[i]);
+        d2 += (x - y[i]) * (x - y[i]);
+    }
+    return std::sqrt(d2);
+}
+
+/// Newton projection (long double) of x onto the zero set of q, along the gradient; false when it
+/// does not converge.
+bool project(const Quadric<double>& q, const Vec3d& x0, V3L& x) {
+    Quadric<long double> ql;
+    for (int j = 0; j < 4; ++j)
+        for (int i = 0; i < 4; ++i) ql.q[j][i] = q.q[j][i];
+    x = to_long(x0);
+    for (int it = 0; it < 60; ++it) {
+        const V3L g = gradient(ql, x);
+        const long double gg = dot(g, g);
+        if (!(gg > 0)) return false;
+        x = x - g * (evaluate(ql, x) / gg);
+    }
+    return std::fabs(evaluate(ql, x)) < 1e-12L * std::sqrt(dot(gradient(ql, x), gradient(ql, x)));
+}
+
+/// Checks every ball: the projections of the input points in it onto its quadric, where they stay
+/// in the ball (and on the clip plane's side), are within E of the exact ellipsoid; and every
+/// input point within E of its covering record's surface.
+void check_surface(const OrientedPoints& pts, const BuildResult& r, const Vec3d& c, const Vec3d& a) {
+    const double E = r.stats.threshold;
+    CHECK(r.stats.over_threshold == 0);
+    CHECK(r.stats.max_distance <= E);
+    CHECK(r.stats.forced == 0);
+    long double worst = 0;
+    std::size_t samples = 0;
+    for (const Ball& b : r.model.balls)
+        for (std::size_t i = 0; i < pts.size(); ++i) {
+            if (length(pts.positions[i] - b.center) > b.radius) continue;
+            V3L x;
+            if (!project(b.q, pts.positions[i], x)) continue;
+            if (std::sqrt(dot(x - to_long(b.center), x - to_long(b.center))) > (long double)b.radius) continue;
+            worst = std::max(worst, ellipsoid_distance(x - to_long(c), a));
+            ++samples;
+        }
+    MESSAGE("balls " << r.stats.balls << ", surface samples " << samples << ", worst distance " << double(worst / E) << " E");
+    CHECK(samples > pts.size());
+    CHECK(worst <= (long double)E);
+}
+
+}  // namespace
+
+TEST_CASE("a sphere's balls: every quadric's zero set in its ball lies within the threshold of the sphere") {
+    const Vec3d c = vec3(0.3, -0.2, 0.1), a = vec3(1.0, 1.0, 1.0);
+    const OrientedPoints pts = ellipsoid_points(c, a, 3000, 5);
+    BuildOptions o;
+    o.error = 2e-3;
+    const BuildResult r = build(pts, o);
+    CHECK(r.stats.sharp_pairs == 0);
+    check_surface(pts, r, c, a);
+}
+
+TEST_CASE("an ellipsoid's balls: every quadric's zero set in its ball lies within the threshold of the ellipsoid") {
+    const Vec3d c = vec3(-1.0, 2.0, 0.5), a = vec3(1.0, 0.6, 0.3);
+    const OrientedPoints pts = ellipsoid_points(c, a, 4000, 9);
+    for (double e : {1e-3, 1e-2}) {
+        CAPTURE(e);
+        BuildOptions o;
+        o.error = e;
+        check_surface(pts, build(pts, o), c, a);
+    }
+}
+
+TEST_CASE("the model does not depend on the number of threads") {
+    const OrientedPoints pts = ellipsoid_points(vec3(0.0, 0.0, 0.0), vec3(1.0, 0.5, 0.25), 3000, 2);
+    BuildOptions o;
+    o.error = 3e-3;
+    o.threads = 1;
+    const BuildResult one = build(pts, o);
+    o.threads = 2;
+    const BuildResult two = build(pts, o);
+    o.threads = 7;
+    const BuildResult seven = build(pts, o);
+    REQUIRE(one.model.balls.size() == two.model.balls.size());
+    REQUIRE(one.model.balls.size() == seven.model.balls.size());
+    for (std::size_t i = 0; i < one.model.balls.size(); ++i) {
+        CHECK(std::memcmp(&one.model.balls[i].q, &two.model.balls[i].q, sizeof(Quadric<double>)) == 0);
+        CHECK(std::memcmp(&one.model.balls[i].q, &seven.model.balls[i].q, sizeof(Quadric<double>)) == 0);
+        CHECK(one.model.balls[i].radius == seven.model.balls[i].radius);
+    }
+    CHECK(one.covered_by == seven.covered_by);
+}
+
+TEST_CASE("a non-positive or non-finite error threshold is rejected") {
+    const OrientedPoints pts = ellipsoid_points(vec3(0.0, 0.0, 0.0), vec3(1.0, 1.0, 1.0), 100, 1);
+    for (double e : {0.0, -1e-3, std::nan(""), double(INFINITY)}) {
+        BuildOptions o;
+        o.error = e;
+        CHECK_THROWS_WITH_AS(build(pts, o), doctest::Contains("error must be positive and finite"), std::invalid_argument);
+    }
+}
+
+TEST_CASE("on a cube the sharp pairs' planes keep their own side's points") {
+    // Points on the faces of the unit cube, face normals.
+    OrientedPoints pts;
+    pts.file = "cube";
+    std::mt19937_64 rng(4);
+    std::uniform_real_distribution<double> u(0, 1);
+    for (int i = 0; i < 6000; ++i) {
+        const int f = i % 6, ax = f / 2;
+        Vec3d p = vec3(u(rng), u(rng), u(rng)), n = vec3(0.0, 0.0, 0.0);
+        p[ax] = f % 2;
+        n[ax] = f % 2 ? 1.0 : -1.0;
+        pts.positions.push_back(p);
+        pts.normals.push_back(n);
+    }
+    BuildOptions o;
+    o.error = 1e-3;
+    const BuildResult r = build(pts, o);
+    MESSAGE("balls " << r.stats.balls << ", sharp pairs " << r.stats.sharp_pairs << ", forced " << r.stats.forced
+                     << ", max distance " << r.stats.max_distance / r.stats.threshold << " E");
+    CHECK(r.stats.sharp_pairs > 0);
+    // The points a sharp pair's record covers lie on its plane's positive side (or within E of it).
+    std::size_t wrong = 0, on_pairs = 0;
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+        const Ball& b = r.model.balls[r.covered_by[i]];
+        if (!b.has_plane) continue;
+        ++on_pairs;
+        CHECK(length(xyz(b.plane)) == doctest::Approx(1.0));
+        if (dot(xyz(b.plane), pts.positions[i]) + b.plane[3] < -r.stats.threshold) ++wrong;
+    }
+    CHECK(on_pairs > 0);
+    CHECK(wrong <= on_pairs / 50);  // sharp_max_misclassified
+    // Corners (three faces) may force a ball; everything else is within E.
+    CHECK(r.stats.over_threshold <= pts.size() / 100);
+}
+
+TEST_CASE("CGAL's kitten point set is covered within the threshold (when build/data has it)") {
+    const std::filesystem::path f = std::filesystem::path(__FILE__).parent_path().parent_path().parent_path() / "build" / "data" / "kitten.xyz";
+    if (!std::filesystem::exists(f)) {
+        MESSAGE("skipped: " << f.string() << " is absent (make data, or tools/fetch_cgal_data.sh build/data)");
+        return;
+    }
+    const OrientedPoints pts = read_points(f);
+    BuildOptions o;
+    o.error = 3e-3;
+    const BuildResult r = build(pts, o);
+    MESSAGE("kitten: " << pts.size() << " points, " << r.stats.balls << " balls, " << r.stats.forced << " forced, rms "
+                       << r.stats.rms_distance / r.stats.diagonal << ", max " << r.stats.max_distance / r.stats.diagonal);
+    CHECK(r.stats.balls > 10);
+    CHECK(r.stats.balls < pts.size() / 5);
+    CHECK(r.stats.over_threshold <= r.stats.forced * o.min_points * 4);
+}
