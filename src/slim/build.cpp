@@ -365,7 +365,10 @@ BuildResult build(const OrientedPoints& points, const BuildOptions& options) {
         double d = std::numeric_limits<double>::infinity();
         if (b < locals.size()) {
             const Ball& ball = res.model.balls[b];
-            d = gradient_line_distance(locals[b], (points.positions[i] - ball.center) * (1 / ball.radius)) * ball.radius;
+            const Vec3d u = (points.positions[i] - ball.center) * (1 / ball.radius);
+            d = gradient_line_distance(locals[b], u) * ball.radius;
+            // A forced ball's gradient line may miss its surface: then the first-order distance.
+            if (std::isinf(d)) d = std::fabs(evaluate(locals[b], u)) / length(gradient(locals[b], u)) * ball.radius;
         }
         if (d > st.threshold) ++st.over_threshold;
         st.max_distance = std::max(st.max_distance, d);

@@ -44,5 +44,8 @@ void add_spline_coeffs(CLI::App& app);
 /// `quadcast volume-info INPUT`: loads a volume (INR, NRRD, raw, synthetic, OFF -> signed distance)
 /// and describes it.
 void add_volume_info(CLI::App& app);
+/// `quadcast slim-build INPUT -o MODEL --error E`: a SLIM model from oriented points or a mesh
+/// (slim_build.cpp).
+void add_slim_build(CLI::App& app);
 
 }  // namespace quadcast::cli

@@ -10,6 +10,7 @@ int main(int argc, char** argv) {
     quadcast::cli::add_render(app);
     quadcast::cli::add_spline_coeffs(app);
     quadcast::cli::add_volume_info(app);
+    quadcast::cli::add_slim_build(app);
     CLI::App* bench = app.add_subcommand("bench", "benchmarks (ratios measured in one run)");
     bench->require_subcommand(1);
     quadcast::cli::add_bench_stability(*bench);
