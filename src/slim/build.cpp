@@ -208,7 +208,8 @@ SeedResult grow_ball(const Context& cx, std::uint32_t seed) {
     double r = cx.opt.initial_radius * cx.diagonal;
     cx.grid.query(c, r, idx);
     while (idx.size() < cx.opt.min_points) {
-        r *= 2;
+        // (Terminates: at the diagonal the ball holds every point, and there are >= min_points.)
+        r = std::min(r * 2, 2 * cx.diagonal);
         cx.grid.query(c, r, idx);
     }
     std::vector<double> d2(idx.size());
@@ -216,7 +217,9 @@ SeedResult grow_ball(const Context& cx, std::uint32_t seed) {
     std::nth_element(d2.begin(), d2.begin() + long(cx.opt.min_points - 1), d2.end());
     const double r_min = std::sqrt(d2[cx.opt.min_points - 1]) * (1 + 1e-12);
     const double r_max = std::max(r_min, cx.opt.max_radius * cx.diagonal);
-    r = std::clamp(cx.opt.initial_radius * cx.diagonal, r_min, r_max);
+    // Start at most 8 times the min_points radius: a far outlier makes the diagonal (and so the
+    // initial radius) huge, and shrinking from there would take hundreds of fits per seed.
+    r = std::clamp(std::min(cx.opt.initial_radius * cx.diagonal, 8 * r_min), r_min, r_max);
 
     SeedResult best, cur;
     std::size_t fits = 0;
@@ -300,6 +303,7 @@ BuildResult build(const OrientedPoints& points, const BuildOptions& options) {
     st.points = points.size();
     st.diagonal = length(hi - lo);
     if (!(st.diagonal > 0)) bad_option(points.file + ": all points coincide");
+    if (!std::isfinite(st.diagonal)) bad_option(points.file + ": the bounding box's diagonal overflows (coordinates too large)");
     st.threshold = options.error * st.diagonal;
     const PointGrid grid(points.positions, lo, hi);
     const Context cx{points, options, grid, st.diagonal, st.threshold};

@@ -211,3 +211,16 @@ TEST_CASE("CGAL's kitten point set is covered within the threshold (when build/d
     CHECK(r.stats.balls < pts.size() / 5);
     CHECK(r.stats.over_threshold <= r.stats.forced * o.min_points * 4);
 }
+
+TEST_CASE("a far outlier neither hangs the build nor breaks it, and an overflowing box is an error") {
+    OrientedPoints pts = ellipsoid_points(vec3(0.0, 0.0, 0.0), vec3(1.0, 1.0, 1.0), 1500, 3);
+    pts.positions.push_back(vec3(0.0, -8e138, 0.0));
+    pts.normals.push_back(vec3(0.0, 1.0, 0.0));
+    BuildOptions o;
+    o.error = 1e-3;
+    const BuildResult r = build(pts, o);
+    CHECK(r.stats.balls > 0);
+    CHECK(r.stats.fits < 100 * pts.size());
+    pts.positions.back() = vec3(1e308, -1e308, 0.0);
+    CHECK_THROWS_WITH_AS(build(pts, o), doctest::Contains("diagonal overflows"), std::invalid_argument);
+}

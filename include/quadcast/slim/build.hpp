@@ -6,8 +6,8 @@
 //     points; Debian ships no kd-tree we link already, nanoflann is not a dependency).
 //  2. Seeds are visited in a seeded random permutation (std::mt19937_64 + Fisher-Yates on the
 //     top 53 bits: the same order on every platform); a seed already covered is skipped.
-//  3. Per seed p: the ball (p, r). r starts at initial_radius * diagonal (at least the distance
-//     of the min_points-th nearest point), grows by 1.5 while the fit is accepted (at most
+//  3. Per seed p: the ball (p, r). r starts at initial_radius * diagonal, clamped to [r_min,
+//     8 r_min] (r_min: the distance of the min_points-th nearest point), grows by 1.5 while the fit is accepted (at most
 //     max_radius * diagonal), shrinks by 0.6 while it is not (down to the min_points radius),
 //     then two bisection steps (geometric mean) between the largest accepted and the smallest
 //     rejected radius. Accepted: the fit (quadcast/slim/fit.hpp) solved, oriented along every
@@ -68,8 +68,8 @@ struct BuildStats {
     std::size_t balls = 0;             ///< records (a sharp pair is two)
     std::size_t sharp_pairs = 0;
     std::size_t forced = 0;            ///< records kept although their fit exceeds E
-    std::size_t fits = 0;              ///< quadric fits computed (dropped seeds included)
-    std::size_t dropped_seeds = 0;     ///< computed in a batch, then covered by an earlier ball
+    std::size_t fits = 0;              ///< quadric fits computed (dropped seeds included: depends on the threads)
+    std::size_t dropped_seeds = 0;     ///< computed in a batch, then covered by an earlier ball (depends on the threads)
     double diagonal = 0;               ///< of the points' bounding box
     double threshold = 0;              ///< E in world units
     double seconds = 0;
