@@ -134,16 +134,7 @@ private:
         std::string raw;
         while (std::getline(in_, raw)) {
             ++line_no_;
-            if (const auto hash = raw.find('#'); hash != std::string::npos) raw.resize(hash);
-            Line l{line_no_, {}};
-            std::size_t i = 0;
-            while (i < raw.size()) {
-                while (i < raw.size() && std::isspace(static_cast<unsigned char>(raw[i]))) ++i;
-                std::size_t j = i;
-                while (j < raw.size() && !std::isspace(static_cast<unsigned char>(raw[j]))) ++j;
-                if (j > i) l.tokens.emplace_back(raw.substr(i, j - i));
-                i = j;
-            }
+            Line l{line_no_, line_tokens(raw)};
             if (!l.tokens.empty()) return l;
         }
         if (in_.bad()) error(line_no_, "", "read error");
@@ -156,13 +147,10 @@ private:
 
     double number(const Line& l, std::size_t k, const std::string& field) const {
         const std::string& s = l.tokens[k];
-        double v = 0.0;
-        const char* b = s.data();
-        if (!s.empty() && s[0] == '+') ++b;
-        const auto [p, ec] = std::from_chars(b, s.data() + s.size(), v);
-        if (ec != std::errc() || p != s.data() + s.size()) error(l.number, field, quote_token(s) + " is not a number");
-        if (!std::isfinite(v)) error(l.number, field, quote_token(s) + " is not finite");
-        return v;
+        const std::optional<double> v = parse_decimal(s);
+        if (!v) error(l.number, field, quote_token(s) + " is not a number");
+        if (!std::isfinite(*v)) error(l.number, field, quote_token(s) + " is not finite");
+        return *v;
     }
     long integer(const Line& l, std::size_t k, const std::string& field) const {
         const std::string& s = l.tokens[k];

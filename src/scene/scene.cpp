@@ -5,6 +5,8 @@
 #include "quadcast/quadric.hpp"
 
 #include <algorithm>
+#include <cctype>
+#include <charconv>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
@@ -49,6 +51,31 @@ std::string quote_token(std::string_view text) {
     std::size_t n = max_token_chars;
     while (n > 0 && (static_cast<unsigned char>(text[n]) & 0xC0) == 0x80) --n;
     return "'" + std::string(text.substr(0, n)) + "...' (" + std::to_string(text.size()) + " bytes)";
+}
+
+std::vector<std::string> line_tokens(std::string_view line, bool comments) {
+    if (comments)
+        if (const auto hash = line.find('#'); hash != std::string_view::npos) line = line.substr(0, hash);
+    std::vector<std::string> t;
+    std::size_t i = 0;
+    while (i < line.size()) {
+        while (i < line.size() && std::isspace(static_cast<unsigned char>(line[i]))) ++i;
+        std::size_t j = i;
+        while (j < line.size() && !std::isspace(static_cast<unsigned char>(line[j]))) ++j;
+        if (j > i) t.emplace_back(line.substr(i, j - i));
+        i = j;
+    }
+    return t;
+}
+
+std::optional<double> parse_decimal(std::string_view token) {
+    const char* b = token.data();
+    const char* e = token.data() + token.size();
+    if (!token.empty() && token[0] == '+') ++b;
+    double v = 0.0;
+    const auto [p, ec] = std::from_chars(b, e, v);
+    if (ec != std::errc() || p != e) return std::nullopt;
+    return v;
 }
 
 // Camera ---------------------------------------------------------------------------------------

@@ -26,19 +26,6 @@ std::string num(double x) {
 const char* const kBallFields[14] = {"cx", "cy", "cz", "r", "k000", "k100", "k010", "k001", "k110", "k011", "k101", "k200", "k020", "k002"};
 const char* const kPlaneFields[4] = {"plane a", "plane b", "plane c", "plane d"};
 
-std::vector<std::string> tokens_of(std::string raw) {
-    if (const auto hash = raw.find('#'); hash != std::string::npos) raw.resize(hash);
-    std::vector<std::string> t;
-    std::size_t i = 0;
-    while (i < raw.size()) {
-        while (i < raw.size() && std::isspace(static_cast<unsigned char>(raw[i]))) ++i;
-        std::size_t j = i;
-        while (j < raw.size() && !std::isspace(static_cast<unsigned char>(raw[j]))) ++j;
-        if (j > i) t.emplace_back(raw.substr(i, j - i));
-        i = j;
-    }
-    return t;
-}
 
 }  // namespace
 
@@ -78,18 +65,16 @@ Model parse_model(std::istream& in, const std::string& file) {
     const auto next = [&]() -> std::vector<std::string> {
         while (std::getline(in, raw)) {
             ++line;
-            std::vector<std::string> t = tokens_of(raw);
+            std::vector<std::string> t = scene::line_tokens(raw);
             if (!t.empty()) return t;
         }
         return {};
     };
     const auto number = [&](const std::string& s, const std::string& field) {
-        double v = 0;
-        const char* b = s.data() + (!s.empty() && s[0] == '+');
-        const auto [p, ec] = std::from_chars(b, s.data() + s.size(), v);
-        if (ec != std::errc() || p != s.data() + s.size()) fail(field, quote_token(s) + " is not a number");
-        if (!std::isfinite(v)) fail(field, quote_token(s) + " is not finite");
-        return v;
+        const std::optional<double> v = scene::parse_decimal(s);
+        if (!v) fail(field, quote_token(s) + " is not a number");
+        if (!std::isfinite(*v)) fail(field, quote_token(s) + " is not finite");
+        return *v;
     };
     std::vector<std::string> t = next();
     if (t.empty() || t[0] != "quadcast-slim") fail("header", "not a quadcast SLIM model (expected 'quadcast-slim 1')");

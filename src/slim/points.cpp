@@ -25,33 +25,6 @@ namespace {
     throw ParseError({file, line, 0, field}, msg);
 }
 
-/// Whitespace-separated tokens of `raw` up to a '#' (when `comments`).
-std::vector<std::string> tokens_of(std::string raw, bool comments) {
-    if (comments)
-        if (const auto hash = raw.find('#'); hash != std::string::npos) raw.resize(hash);
-    std::vector<std::string> t;
-    std::size_t i = 0;
-    while (i < raw.size()) {
-        while (i < raw.size() && std::isspace(static_cast<unsigned char>(raw[i]))) ++i;
-        std::size_t j = i;
-        while (j < raw.size() && !std::isspace(static_cast<unsigned char>(raw[j]))) ++j;
-        if (j > i) t.emplace_back(raw.substr(i, j - i));
-        i = j;
-    }
-    return t;
-}
-
-/// A decimal number token (a leading '+' allowed); nullopt when it is not one. NaN and infinities
-/// parse (the caller rejects them with its own message).
-std::optional<double> parse_number(const std::string& s) {
-    const char* b = s.data();
-    if (!s.empty() && s[0] == '+') ++b;
-    double v = 0.0;
-    const auto [p, ec] = std::from_chars(b, s.data() + s.size(), v);
-    if (ec != std::errc() || p != s.data() + s.size()) return std::nullopt;
-    return v;
-}
-
 const char* const kFieldNames[6] = {"x", "y", "z", "nx", "ny", "nz"};
 
 /// Appends a point after checking that its six values are finite and its normal is not zero;
@@ -187,7 +160,7 @@ private:
         bool have_format = false;
         while (true) {
             if (!getline(s)) fail(pts_.file, line_, "header", "the file ends before 'end_header' (truncated header?)");
-            const std::vector<std::string> t = tokens_of(s, false);
+            const std::vector<std::string> t = scene::line_tokens(s, false);
             if (t.empty()) continue;
             const std::string& key = t[0];
             if (key == "end_header") break;
@@ -248,7 +221,7 @@ private:
                 if (!getline(s))
                     fail(pts_.file, line_, what, "the file ends after " + std::to_string(i) + " of " + std::to_string(e.count) +
                                                      " " + e.name + " records (truncated?)");
-                t = tokens_of(s, false);
+                t = scene::line_tokens(s, false);
             }
             // Walk the properties, lists included.
             std::size_t k = 0;
@@ -258,7 +231,7 @@ private:
                 std::size_t items = 1;
                 if (p.list) {
                     if (k >= t.size()) fail(pts_.file, line_, what + " " + p.name, "missing (the record has " + std::to_string(t.size()) + " values)");
-                    const auto c = parse_number(t[k]);
+                    const auto c = scene::parse_decimal(t[k]);
                     if (!c || !(*c >= 0) || *c != std::floor(*c) || *c > 1e6)
                         fail(pts_.file, line_, what + " " + p.name, "list count " + quote_token(t[k]) + " is not a non-negative integer");
                     items = std::size_t(*c);
@@ -267,7 +240,7 @@ private:
                 for (std::size_t j = 0; j < items; ++j, ++k) {
                     if (k >= t.size()) fail(pts_.file, line_, what + " " + p.name, "missing (the record has " + std::to_string(t.size()) + " values)");
                     if (!is_vertex) continue;
-                    const auto x = parse_number(t[k]);
+                    const auto x = scene::parse_decimal(t[k]);
                     if (!x) fail(pts_.file, line_, what + " " + p.name, quote_token(t[k]) + " is not a number");
                     for (int q = 0; q < 6; ++q)
                         if (slot_[q] == int(pi)) v[q] = *x;
@@ -372,7 +345,7 @@ OrientedPoints parse_xyz(std::istream& in, const std::string& file_name, const R
     int line = 0;
     while (std::getline(in, raw)) {
         ++line;
-        const std::vector<std::string> t = tokens_of(raw, true);
+        const std::vector<std::string> t = scene::line_tokens(raw, true);
         if (t.empty()) continue;
         if (t.size() == 3)
             fail(file_name, line, "point " + std::to_string(pts.size()),
@@ -382,7 +355,7 @@ OrientedPoints parse_xyz(std::istream& in, const std::string& file_name, const R
                  "expected 6 values 'x y z nx ny nz', found " + std::to_string(t.size()));
         double v[6];
         for (int k = 0; k < 6; ++k) {
-            const auto x = parse_number(t[std::size_t(k)]);
+            const auto x = scene::parse_decimal(t[std::size_t(k)]);
             if (!x) fail(file_name, line, kFieldNames[k], quote_token(t[std::size_t(k)]) + " is not a number");
             if (!std::isfinite(*x)) fail(file_name, line, kFieldNames[k], quote_token(t[std::size_t(k)]) + " is not finite");
             v[k] = *x;

@@ -1,6 +1,7 @@
 // quadcast/scene/diagnostics.hpp -- errors and warnings that name the file, line and field
 #pragma once
 
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -58,6 +59,14 @@ private:
 /// gives a short message, not a 1 MB one).
 inline constexpr std::size_t max_token_chars = 64;
 std::string quote_token(std::string_view text);
+
+/// The whitespace-separated tokens of one line of a text format, up to a '#' when `comments`
+/// (the line-oriented readers: OFF, point clouds, SLIM models).
+std::vector<std::string> line_tokens(std::string_view line, bool comments = true);
+
+/// A decimal number token (a leading '+' allowed, the whole token read); nullopt when it is not
+/// one. NaN and infinities parse: the caller rejects them with its own message.
+std::optional<double> parse_decimal(std::string_view token);
 
 /// A problem handled in a documented way (a record skipped, a default used). Readers collect
 /// them; the command prints them to stderr with `to_string()`.
