@@ -16,6 +16,11 @@ print("README shows examples/app/tensor_glyphs.cpp (%d lines)" % (example.count(
 PY
 cmake --install "$build" --prefix "$work/prefix" > "$work/install.log"
 test -x "$work/prefix/bin/quadcast" && test -x "$work/prefix/bin/quadcast-codegen" || { echo "quadcast and quadcast-codegen are not installed"; exit 1; }
+for c in image scene volume slim gl; do  # each component alone
+  cmake -S "$src/tests/package/component" -B "$work/component-$c" -DCMAKE_PREFIX_PATH="$work/prefix" -DQUADCAST_COMPONENT=$c \
+    > "$work/component-$c.log" 2>&1 || { echo "find_package(quadcast COMPONENTS $c) failed:"; cat "$work/component-$c.log"; exit 1; }
+done
+echo "find_package(quadcast COMPONENTS c) finds each component alone: image scene volume slim gl"
 cmake -S "$src/tests/package" -B "$work/consumer" -DCMAKE_PREFIX_PATH="$work/prefix" -DCMAKE_BUILD_TYPE=Release \
   -DQUADCAST_APP_SOURCE="$example" > "$work/configure.log" || { cat "$work/configure.log"; exit 1; }
 cmake --build "$work/consumer" -j 2 > "$work/build.log" || { cat "$work/build.log"; exit 1; }
