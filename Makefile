@@ -41,7 +41,7 @@ test: build fuzz-build
 # each for FUZZ_SECONDS, keeping what it finds in $(FUZZ_BUILD)/corpus/<reader>.
 FUZZ_BUILD ?= build-fuzz
 FUZZ_SECONDS ?= 600
-FUZZ_READERS := scene_json pdb off inr inr_gz nrrd raw
+FUZZ_READERS := scene_json pdb off inr inr_gz nrrd raw slim
 FUZZ_FLAGS := -fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer -fsanitize=fuzzer-no-link
 fuzz-build: deps
 	@if echo 'extern "C" int LLVMFuzzerTestOneInput(const char*, unsigned long) { return 0; }' | \
