@@ -163,6 +163,34 @@ struct PrimitiveRectKernel {
     }
 };
 
+/// Per vertex of the bounding geometry of slab-bounded primitives: the padded quadrilateral of the
+/// slab sections' hull turned to the projected axis (`slab_quad`), and whether it is tight and
+/// visible.
+struct PrimitiveQuadSlabKernel {
+    static constexpr const char* name = "primitive_quad_slab";
+    static constexpr const char* source = "quadcast::slab_quad (quadcast/bounds.hpp)";
+    static constexpr const char* summary = "screen quadrilateral of a slab-bounded primitive along its projected axis";
+    template <class IO> static void run(IO& io) {
+        using T = typename IO::T;
+        const Mat4<T> vp = io.template mat<4>("view_projection");
+        const ClippedQuadric<T> p = primitive_inputs(io);
+        const Vec2<T> viewport = io.template vec<2>("viewport");
+        const ScreenQuad<T> r = slab_quad(vp, p.q, p.center, p.axis, p.half_length, viewport);
+        io.out("c0", r.corner[0]);
+        io.out("c1", r.corner[1]);
+        io.out("c2", r.corner[2]);
+        io.out("c3", r.corner[3]);
+        io.out("tight", r.tight);
+        io.out("visible", r.visible);
+    }
+    static void generate(std::mt19937& rng, std::span<float> in) {
+        std::size_t p = 0;
+        put_view_projection(rng, in, p);
+        put_primitive(rng, in, p);
+        put(in, p, vec2(1024.0f, 768.0f));
+    }
+};
+
 /// Per primitive (perspective cameras): back-face culling against the bounding sphere (Stoll et
 /// al. 2006, sec. 4.4.4; `cull_primitive`, and `cull_primitive_with_caps` for capped slabs) for
 /// the eye's local position o = eye - center (`local_ray`'s o).

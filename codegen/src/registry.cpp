@@ -38,6 +38,7 @@ const std::vector<KernelDef>& registry() {
         make_kernel<PrimitiveRectKernel<RectBound::sphere>>(),
         make_kernel<PrimitiveRectKernel<RectBound::ellipsoid>>(),
         make_kernel<PrimitiveRectKernel<RectBound::slab>>(),
+        make_kernel<PrimitiveQuadSlabKernel>(),
         make_kernel<PrimitiveCullKernel>(),
         make_kernel<FragmentRayKernel<false>>(),
         make_kernel<FragmentRayKernel<true>>(),

@@ -607,6 +607,96 @@ ScreenRect<T> primitive_rect(const Mat4<T>& view_projection, const Quadric<T>& q
                           dual_rect(view_projection, center, slab_cap_dual(q, axis, -half_length), viewport));
 }
 
+/// A screen quadrilateral bounding a primitive's projection: NDC corners in counter-clockwise
+/// order, with `tight` and `visible` as `ScreenRect`'s.
+template <class T>
+struct ScreenQuad {
+    Vec2<T> corner[4];
+    mask_t<T> tight;
+    mask_t<T> visible;
+};
+
+/// The padded screen rectangle of a slab-bounded primitive (cylinder, cone, one-sheet
+/// hyperboloid: ruled between its caps) turned to the projection of its axis: the sides of the
+/// convex hull of the two slab sections (`slab_cap_dual` at +-half_length) supported along u, the
+/// pixel-space direction of the projected axis at the centre, and along v = (-u_y, u_x). A thin
+/// stick seen across its axis covers a few pixels either side of the segment, where the
+/// axis-aligned `primitive_rect` of a diagonal stick covers the square around it.
+/// Directions: with the local -> clip rows r_i (`detail::local_clip_row`), the window position's
+/// pixel offset from the screen centre is P = (W/2 r_1.x~ / r_4.x~, H/2 r_2.x~ / r_4.x~); the
+/// lines n . P = b for a unit n are the planes n_x W/2 r_1 + n_y H/2 r_2 - b r_4, so
+/// `detail::dual_span` with the row n_x W/2 r_1 + n_y H/2 r_2 bounds n . P over a section. The
+/// projected axis direction is the derivative of P along the axis at the centre,
+/// u ~ (W/2 (r_1a x_4 - x_1 r_4a), H/2 (r_2a x_4 - x_2 r_4a)) (r_ia = r_i,xyz . axis, x_i = r_i,w);
+/// u = (1, 0) when that has no length (the axis points at the eye).
+/// Corners: P = (a u + b v) / |u|^2 for (a, b) = (lo_u, lo_v), (hi_u, lo_v), (hi_u, hi_v),
+/// (lo_u, hi_v), then NDC = P / (W/2, H/2).
+/// Padding per direction (pixels): 1/16 + 2^-10 of the span + 2^-15 of the sum of |b0| over both
+/// sections and directions (the rounding of the centre's position, which the combined rows carry
+/// into either direction).
+/// tight iff both sections are usable and beyond the near plane with a margin, all four spans
+/// clear and finite, and every corner within 64 in NDC (beyond, the fallback quad rasterises
+/// alike); visible iff either section lies in front of the eye plane; not visible: every corner
+/// at (2, 2).
+/// Numerics: as `detail::dual_span`; u normalised by `normalize`.
+template <class T>
+ScreenQuad<T> slab_quad(const Mat4<T>& view_projection, const Quadric<T>& q, const Vec3<T>& center, const Vec3<T>& axis,
+                        const T& half_length, const Vec2<T>& viewport) {
+    // Pull the clip-space rows back to local coordinates
+    const Vec4<T> r1 = detail::local_clip_row(view_projection, center, 0);
+    const Vec4<T> r2 = detail::local_clip_row(view_projection, center, 1);
+    const Vec4<T> r3 = detail::local_clip_row(view_projection, center, 2);
+    const Vec4<T> r4 = detail::local_clip_row(view_projection, center, 3);
+    const T half_w = viewport[0] * T(0.5), half_h = viewport[1] * T(0.5);
+    // Turn the frame to the projected axis
+    const T a4 = dot(xyz(r4), axis);
+    const T du = half_w * (dot(xyz(r1), axis) * r4[3] - r1[3] * a4);
+    const T dv = half_h * (dot(xyz(r2), axis) * r4[3] - r2[3] * a4);
+    const T dl2 = du * du + dv * dv;
+    const mask_t<T> dir_ok = (dl2 > T(0)) && (dl2 < T(3.4e38));
+    const Vec2<T> u = select(dir_ok, normalize(vec2(select(dir_ok, du, T(1)), select(dir_ok, dv, T(0)))), vec2(T(1), T(0)));
+    const Vec2<T> v = vec2(-u[1], u[0]);
+    const Vec4<T> ru = r1 * (u[0] * half_w) + r2 * (u[1] * half_h);
+    const Vec4<T> rv = r1 * (v[0] * half_w) + r2 * (v[1] * half_h);
+    // Bound both directions over both sections
+    const DualBound<T> d0 = slab_cap_dual(q, axis, half_length);
+    const DualBound<T> d1 = slab_cap_dual(q, axis, -half_length);
+    T lo[2][2], hi[2][2], b0[2][2];
+    mask_t<T> clear[2][2];
+    detail::dual_span(ru, r4, d0, lo[0][0], hi[0][0], b0[0][0], clear[0][0]);
+    detail::dual_span(rv, r4, d0, lo[0][1], hi[0][1], b0[0][1], clear[0][1]);
+    detail::dual_span(ru, r4, d1, lo[1][0], hi[1][0], b0[1][0], clear[1][0]);
+    detail::dual_span(rv, r4, d1, lo[1][1], hi[1][1], b0[1][1], clear[1][1]);
+    const mask_t<T> near0 = detail::dual_beyond(r3 + r4, d0), near1 = detail::dual_beyond(r3 + r4, d1);
+    const mask_t<T> behind0 = detail::dual_beyond(-r4, d0), behind1 = detail::dual_beyond(-r4, d1);
+    // Pad the hull's spans
+    mask_t<T> tight = (((d0.ok && d1.ok) && (near0 && near1)) && (clear[0][0] && clear[0][1])) && (clear[1][0] && clear[1][1]);
+    const T centre_pad = ((b0[0][0] + b0[0][1]) + (b0[1][0] + b0[1][1])) * T(0.000030517578125);
+    T l[2], h[2];
+    for (int k = 0; k < 2; ++k) {
+        const T lk = min(lo[0][k], lo[1][k]), hk = max(hi[0][k], hi[1][k]);
+        const T pad = (T(0.0625) + (hk - lk) * T(0.0009765625)) + centre_pad;
+        l[k] = lk - pad;
+        h[k] = hk + pad;
+        tight = tight && (l[k] <= h[k]);  // false for NaN
+    }
+    // Place the corners
+    const T u2 = dot(u, u);
+    const T as[4] = {l[0], h[0], h[0], l[0]};
+    const T bs[4] = {l[1], l[1], h[1], h[1]};
+    const mask_t<T> behind = behind0 && behind1;
+    ScreenQuad<T> out{};
+    for (int i = 0; i < 4; ++i) {
+        const Vec2<T> pc = (u * as[i] + v * bs[i]) / u2;
+        const Vec2<T> ndc = vec2(pc[0] / half_w, pc[1] / half_h);
+        tight = tight && (max(abs(ndc[0]), abs(ndc[1])) <= T(64));
+        out.corner[i] = select(behind, vec2(T(2), T(2)), ndc);
+    }
+    out.tight = tight || behind;
+    out.visible = !behind;
+    return out;
+}
+
 // Sphere-bound quads --------------------------------------------------------------------------
 
 /// A view-space quad whose perspective projection tightly encloses the projection of a sphere.

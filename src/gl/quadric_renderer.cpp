@@ -77,6 +77,7 @@ public:
     /// Depth test of the primitive pass (on by default); off makes every rasterised fragment
     /// count in `samples_passed`.
     void set_depth_test(bool on) { depth_test_ = on; }
+    void set_slab_quads(bool on) { slab_quads_ = on; }
     /// Samples that passed (GL_SAMPLES_PASSED) in the primitive pass of the last `draw`.
     std::uint64_t samples_passed() const { return samples_passed_; }
     /// Count fragment-shader invocations of the primitive pass (GL_ARB_pipeline_statistics_query,
@@ -278,6 +279,7 @@ public:
             gl.UseProgram(prog.id());
             set_uniforms(prog, cam, light, opt, viewport[2], viewport[3]);
             gl.Uniform1i(prog.uniform_location("qc_bound"), opt.tight_bounds ? static_cast<int>(render::rect_bound(variant)) : 0);
+            gl.Uniform1i(prog.uniform_location("qc_slab_quad"), slab_quads_ ? 1 : 0);
             gl.Uniform1i(prog.uniform_location("qc_cull"), cull && !cam.orthographic ? 1 : 0);
             gl.Uniform1ui(prog.uniform_location("qc_first"), ranges_[v].first);
             gl.Uniform1i(prog.uniform_location("qc_caps"), variant == render::Variant::slab ? 1 : 0);
@@ -667,6 +669,7 @@ private:
     GeneratedPrograms programs_{*api_, "quadcast::gl::QuadricRenderer"};
     FragmentStage stage_ = FragmentStage::incremental;
     bool depth_test_ = true;
+    bool slab_quads_ = true;
     GLuint query_ = 0, fs_query_ = 0;
     std::uint64_t samples_passed_ = 0, fragment_invocations_ = 0;
     bool count_fragments_ = false;
@@ -677,6 +680,7 @@ QuadricRenderer::~QuadricRenderer() = default;
 void QuadricRenderer::set_fragment_stage(FragmentStage s) { impl_->set_fragment_stage(s); }
 QuadricRenderer::FragmentStage QuadricRenderer::fragment_stage() const { return impl_->fragment_stage(); }
 void QuadricRenderer::set_depth_test(bool on) { impl_->set_depth_test(on); }
+void QuadricRenderer::set_slab_quads(bool on) { impl_->set_slab_quads(on); }
 std::uint64_t QuadricRenderer::samples_passed() const { return impl_->samples_passed(); }
 void QuadricRenderer::set_count_fragments(bool on) { impl_->set_count_fragments(on); }
 std::uint64_t QuadricRenderer::fragment_invocations() const { return impl_->fragment_invocations(); }

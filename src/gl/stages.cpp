@@ -46,7 +46,9 @@ const char* environment_uniforms =
 
 /// The bounding geometry of one primitive, shared by both vertex stages: with `qc_bound` 1 or 2
 /// (quadcast::RectBound of the variant; general variants only) the NDC rectangle
-/// `primitive_rect_*` when it is tight (corners (lo, lo), (hi, lo), (hi, hi), (lo, hi), at w = 1);
+/// `primitive_rect_ellipsoid` (corners (lo, lo), (hi, lo), (hi, hi), (lo, hi), at w = 1) or the
+/// quadrilateral `primitive_quad_slab` (turned to the projected axis; with `qc_slab_quad`, else
+/// the rectangle `primitive_rect_slab`) when it is tight;
 /// otherwise, and with `qc_bound` 0 (sphere-bound variants, or tight bounds off), the quad around
 /// the bounding sphere (`primitive_bound_*`, the near-plane rectangle when the eye is inside the
 /// sphere).
@@ -56,11 +58,19 @@ std::string bound_glsl(const std::string& proj, bool rects) {
     if (rects)
         m << "    if (qc_bound == 1)\n"
              "        qc_primitive_rect_ellipsoid(qc_view_projection, q, qc_record_center(p), qc_record_radius(p), qc_record_axis(p), qc_record_half_length(p), qc_viewport, lo, hi, tight, visible);\n"
-             "    else if (qc_bound == 2)\n"
-             "        qc_primitive_rect_slab(qc_view_projection, q, qc_record_center(p), qc_record_radius(p), qc_record_axis(p), qc_record_half_length(p), qc_viewport, lo, hi, tight, visible);\n";
-    m << "    vec4 clip;\n"
-         "    if (tight) {\n"
-         "        clip = vec4(k == 1 || k == 2 ? hi.x : lo.x, k >= 2 ? hi.y : lo.y, 0.0, 1.0);\n"
+             "    else if (qc_bound == 2 && !qc_slab_quad)\n"
+             "        qc_primitive_rect_slab(qc_view_projection, q, qc_record_center(p), qc_record_radius(p), qc_record_axis(p), qc_record_half_length(p), qc_viewport, lo, hi, tight, visible);\n"
+             "    vec2 qd[4];\n"
+             "    if (qc_bound == 2 && qc_slab_quad)\n"
+             "        qc_primitive_quad_slab(qc_view_projection, q, qc_record_center(p), qc_record_radius(p), qc_record_axis(p), qc_record_half_length(p), qc_viewport, qd[0], qd[1], qd[2], qd[3], tight, visible);\n";
+    m << "    vec4 clip;\n";
+    if (rects)
+        m << "    if (tight && qc_bound == 2 && qc_slab_quad) {\n"
+             "        clip = vec4(qd[k], 0.0, 1.0);\n"
+             "    } else if (tight) {\n";
+    else
+        m << "    if (tight) {\n";
+    m << "        clip = vec4(k == 1 || k == 2 ? hi.x : lo.x, k >= 2 ? hi.y : lo.y, 0.0, 1.0);\n"
          "    } else {\n"
          "        vec3 c0, c1, c2, c3;\n        bool valid;\n"
          "        qc_primitive_bound_" << proj << "(qc_view, qc_record_center(p), qc_record_radius(p), c0, c1, c2, c3, valid);\n"
@@ -90,12 +100,14 @@ Stage vertex_shader(bool ortho) {
     const std::string proj = ortho ? "ortho" : "perspective";
     add_kernel(s, fns, "primitive_rect_ellipsoid");
     add_kernel(s, fns, "primitive_rect_slab");
+    add_kernel(s, fns, "primitive_quad_slab");
     add_kernel(s, fns, "primitive_bound_" + proj);
     add_kernel(s, fns, "clip_position");
     if (!ortho) add_kernel(s, fns, "primitive_cull");
     std::ostringstream m;
     m << record_glsl;
-    m << bound_uniforms << "uniform vec3 qc_eye;\nuniform bool qc_cull;\nuniform bool qc_caps;   // the variant closes a slab with caps\n\n"
+    m << bound_uniforms << "uniform bool qc_slab_quad;        // slab bounds: the quadrilateral along the axis, else the rectangle\n"
+         "uniform vec3 qc_eye;\nuniform bool qc_cull;\nuniform bool qc_caps;   // the variant closes a slab with caps\n\n"
          "flat out uint qc_prim;\n\n";
     m << fns.str();
     m << visible_glsl;

@@ -135,13 +135,14 @@ Traced random_traced(std::mt19937& rng, int kind) {
 
 }  // namespace
 
-TEST_CASE("a tight rectangle holds every pixel an independent long-double tracer sees covered") {
+TEST_CASE("a tight rectangle and a slab's quadrilateral hold every pixel an independent long-double tracer sees covered") {
     // Random primitives of each kind seen by random perspective and orthographic cameras, from
     // afar and (every fourth) from close by, where bounds straddle the eye and near planes; each
     // pixel's exact ray (ExactCamera, long double) against the primitive's exact surface; every
     // pixel with a hit in the depth range must be one `primitive_pixels` draws.
     const int w = 96, h = 72;
     long covered = 0, missed = 0, tight_count = 0, count = 0, area_tight = 0, area_sphere = 0;
+    long quad_count = 0, quad_tight_count = 0, missed_quad = 0, area_rect_slab = 0, area_quad_slab = 0;
     for (int it = 0; it < 400; ++it) {
         std::mt19937 rng = rng_for(7, static_cast<std::uint32_t>(it));
         const int kind = it % 5;
@@ -169,6 +170,36 @@ TEST_CASE("a tight rectangle holds every pixel an independent long-double tracer
         auto area = [](const PixelRect& r) { return r.x0 > r.x1 ? 0L : long(r.x1 - r.x0 + 1) * (r.y1 - r.y0 + 1); };
         area_tight += area(tight);
         area_sphere += area(sphere);
+        // The slab kinds' quadrilateral along the projected axis, in window pixels
+        bool has_quad = false;
+        double qx[4], qy[4];
+        if (rect_bound(t.prim.variant) == RectBound::slab) {
+            const ScreenQuad<float> q = slab_quad(f.view_projection, s.q, s.center, s.axis, s.half_length, vp);
+            has_quad = q.tight && q.visible && is_tight;
+            quad_tight_count += q.tight;
+            for (int i = 0; i < 4; ++i) {
+                qx[i] = (double(q.corner[i][0]) + 1.0) * 0.5 * w;
+                qy[i] = (double(q.corner[i][1]) + 1.0) * 0.5 * h;
+            }
+        }
+        // Whether the pixel centre lies in the convex quadrilateral (counter-clockwise corners)
+        auto in_quad = [&](int x, int y) {
+            for (int i = 0; i < 4; ++i) {
+                const int j = (i + 1) % 4;
+                const double cr = (qx[j] - qx[i]) * (y + 0.5 - qy[i]) - (qy[j] - qy[i]) * (x + 0.5 - qx[i]);
+                if (cr < 0) return false;
+            }
+            return true;
+        };
+        if (has_quad) {
+            ++quad_count;
+            for (int y = 0; y < h; ++y)
+                for (int x = 0; x < w; ++x)
+                    if (x >= tight.x0 && x <= tight.x1 && y >= tight.y0 && y <= tight.y1) {
+                        ++area_rect_slab;
+                        area_quad_slab += in_quad(x, y);
+                    }
+        }
         const ExactCamera ec(cam, w, h);
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x) {
@@ -186,10 +217,20 @@ TEST_CASE("a tight rectangle holds every pixel an independent long-double tracer
                         std::printf("[tight rect] iteration %d kind %d %s: covered pixel (%d, %d) outside [%d, %d] x [%d, %d]\n", it, kind,
                                     ortho ? "ortho" : "perspective", x, y, tight.x0, tight.x1, tight.y0, tight.y1);
                 }
+                if (has_quad && !in_quad(x, y)) {
+                    ++missed_quad;
+                    if (missed_quad < 10)
+                        std::printf("[slab quad] iteration %d kind %d %s: covered pixel (%d, %d) outside the quad\n", it, kind, ortho ? "ortho" : "perspective", x, y);
+                }
             }
     }
     std::printf("[tight rect] %ld primitives (%ld tight), %ld covered pixels, %ld outside their rectangle; rectangle area %ld px against %ld px for the bounding-sphere quads' rectangles\n",
                 count, tight_count, covered, missed, area_tight, area_sphere);
+    std::printf("[slab quad] %ld slab primitives drawn over their quadrilateral (%ld tight), %ld covered pixels outside it; %ld px inside the quadrilaterals against %ld px in the rectangles\n",
+                quad_count, quad_tight_count, missed_quad, area_quad_slab, area_rect_slab);
+    CHECK(quad_count > 40);
+    CHECK(missed_quad == 0);
+    CHECK(area_quad_slab < area_rect_slab);
     CHECK(covered > 20000);
     CHECK(tight_count > count / 2);
     CHECK(tight_count < count);  // the close-by cameras need the fallback

@@ -88,11 +88,13 @@ void run_bounds_bench(const BoundsBenchOptions& o) {
     const char* what = o.sticks ? "random capped sticks (length 0.05, radius 0.005) in the unit cube" : "random spheres in the unit cube, r = 0.3 N^(-1/3)";
     std::printf("quadcast bench %s: %dx%d, 30 degree perspective from (0.5, 0.5, 3), %s\n", o.sticks ? "sticks" : "spheres", o.width, o.height, what);
     std::printf("%s\n", ctx.info().summary().c_str());
-    std::printf("medians of %d interleaved frames; 'quad': bounding-sphere quads, no cull pass; 'tight': tight rectangles, no cull pass;\n"
+    std::printf("medians of %d interleaved frames; 'quad': bounding-sphere quads, no cull pass; 'tight': tight bounds (sticks: quadrilaterals along the axis), no cull pass;\n"
                 "'cull': tight rectangles and the occlusion cull pass ('of it cp': the cull pass's GPU time); 'drawn': primitives the cull pass keeps;\nper covered pixel: fragments "
-                "rasterised ('rast') and fragment-shader invocations ('fs', llvmpipe: 16 per 4x4 block shaded)\n", o.frames);
+                "rasterised ('rast') and fragment-shader invocations ('fs', llvmpipe: 16 per 4x4 block shaded)%s\n", o.frames,
+                o.sticks ? ";\n'rect': tight axis-aligned rectangles instead of the quadrilaterals, no cull pass" : "");
     std::printf("%10s %9s %8s %8s %8s %8s %10s %10s %7s %6s %6s %6s %7s %7s %7s", o.sticks ? "sticks" : "spheres", "covered", "quad ms", "tight ms", "cull ms", "of it cp",
                 "quad/cull", "tight/cull", "drawn", "q rast", "t rast", "c rast", "q fs", "t fs", "c fs");
+    if (o.sticks) std::printf(" %8s %10s %7s", "rect ms", "rect/tight", "r rast");
     if (o.compare) std::printf(" %16s %14s", "closed cull ms", "sphere/closed");
     std::printf("\n");
     gl::QuadricRenderer r(ctx.api());
@@ -138,21 +140,37 @@ void run_bounds_bench(const BoundsBenchOptions& o) {
             r.draw(cam, light, modes[m]);
             rast[m] = static_cast<double>(r.samples_passed());
         }
+        double rast_rect = 0.0;  // sticks: tight rectangles instead of the quadrilaterals
+        if (o.sticks) {
+            r.set_slab_quads(false);
+            r.draw(cam, light, modes[1]);
+            rast_rect = static_cast<double>(r.samples_passed());
+            r.set_slab_quads(true);
+        }
         r.set_depth_test(true);
         r.set_fragment_stage(gl::QuadricRenderer::FragmentStage::incremental);
         r.draw(cam, light, modes[2]);  // warm-up
         if (general) general->draw(cam, light, modes[2]);  // warm-up
         // Time the frames, interleaved
-        std::vector<double> ms[3], ms_general, ms_cull;
+        std::vector<double> ms[3], ms_general, ms_cull, ms_rect;
         for (int i = 0; i < o.frames; ++i) {
             for (int m = 0; m < 3; ++m) ms[m].push_back(time_frame(r, modes[m]));
             ms_cull.push_back(r.cull_pass_ms());
+            if (o.sticks) {
+                r.set_slab_quads(false);
+                ms_rect.push_back(time_frame(r, modes[1]));
+                r.set_slab_quads(true);
+            }
             if (general) ms_general.push_back(time_frame(*general, modes[2]));
         }
         const double t[3] = {median(ms[0]), median(ms[1]), median(ms[2])};
         std::printf("%10d %9ld %8.1f %8.1f %8.1f %8.1f %9.2fx %9.2fx %6.1f%% %6.2f %6.2f %6.2f %7.2f %7.2f %7.2f", n, covered, t[0], t[1], t[2], median(ms_cull), t[0] / t[2], t[1] / t[2],
                     100.0 * static_cast<double>(drawn) / std::max(1, n), rast[0] / covered, rast[1] / covered, rast[2] / covered, frag[0] / covered,
                     frag[1] / covered, frag[2] / covered);
+        if (o.sticks) {
+            const double t_rect = median(ms_rect);
+            std::printf(" %8.1f %9.2fx %7.2f", t_rect, t_rect / t[1], rast_rect / covered);
+        }
         if (general) {
             const double m_general = median(ms_general);
             std::printf(" %16.1f %13.2fx", m_general, m_general / t[2]);

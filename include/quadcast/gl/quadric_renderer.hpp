@@ -48,6 +48,11 @@ public:
     /// count in `samples_passed`. (A benchmark switch: with RenderOptions::occlusion_culling the
     /// primitives the cull pass leaves out are not rasterised either, so the picture differs.)
     void set_depth_test(bool on);
+    /// Slab-bounded primitives (cylinders, cones, one-sheet hyperboloids) with tight bounds are
+    /// drawn over the quadrilateral turned to their projected axis (`quadcast::slab_quad`, on by
+    /// default) or, off, over their axis-aligned rectangle (`primitive_rect`). The same picture;
+    /// a benchmark switch.
+    void set_slab_quads(bool on);
     /// Samples that passed (GL_SAMPLES_PASSED) in the primitive pass of the last `draw`.
     std::uint64_t samples_passed() const;
     /// Count fragment-shader invocations of the primitive pass (GL_ARB_pipeline_statistics_query,
