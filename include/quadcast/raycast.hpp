@@ -163,8 +163,11 @@ Candidate<T> nearer(const Candidate<T>& a, const Candidate<T>& b) {
 /// - bound: the hit must lie in the bounding sphere, |x|^2 <= radius^2.
 /// - planes: the hit must lie inside the four planes (`inside_tet`).
 /// - slab: the hit must lie in the slab; the caps dot(axis, x) = +-half_length that are closed
-///   (caps[0], caps[1] > 0) are hit where the quadric's inside (f <= 0) is, with normal +-axis;
-///   with cull only the caps facing the ray.
+///   (caps[0], caps[1] > 0) are hit where the quadric's inside (f <= 0) is, or where the cap
+///   crossing's ray parameter equals the quadric's entry root to 2^-18 of itself (the rim: there
+///   float rounding can reject both the wall hit, just beyond the cap plane, and the cap point,
+///   just outside the quadric, leaving a pinhole), with normal +-axis; with cull only the caps
+///   facing the ray.
 /// - sphere: the quadric is the sphere |x| = radius (`ray_quadratic_sphere`), normal o + lambda v.
 /// The nearest candidate wins. Normal of a quadric hit: A x + b = g + lambda a (eq. 11).
 /// Numerics: see the functions named; the cap parameter is (s h - dot(axis, o)) / dot(axis, v).
@@ -191,12 +194,18 @@ CastHit<T> cast_ray(const ClippedQuadric<T>& p, const LocalRay<T>& r) {
     };
     // Roots of the quadric, clipped.
     Candidate<T> best{};
+    T entry{};            // the quadric root where the ray enters (clipped or not)
+    mask_t<T> entry_ok{};
     if constexpr (Opt.cull) {
         const RayHit<T> h = front_root(rq);
         best = quadric_candidate(h.lambda, h.hit);
+        entry = h.lambda;
+        entry_ok = h.hit;
     } else {
         const RootPair<T> pr = roots_near_first(rq);
         best = nearer(quadric_candidate(pr.lambda_near, pr.near_valid), quadric_candidate(pr.lambda_far, pr.far_valid));
+        entry = pr.lambda_near;
+        entry_ok = pr.near_valid;
     }
     // Caps of the slab.
     if constexpr (Opt.slab) {
@@ -208,7 +217,11 @@ CastHit<T> cast_ray(const ClippedQuadric<T>& p, const LocalRay<T>& r) {
             const T sign = s == 0 ? T(1) : T(-1);
             const T lambda = (sign * p.half_length - ao) / den;
             const Vec3<T> x = r.o + lambda * r.v;
-            mask_t<T> ok = ((ok_den && lambda > T(0)) && (evaluate(p.q, x) <= T(0))) && (p.caps[s] > T(0));
+            // At the rim the wall's entry and the cap crossing coincide, and rounding can put the
+            // first beyond the cap plane and the second outside the quadric: the cap is kept too
+            // where the two ray parameters agree to 2^-18.
+            const mask_t<T> rim = entry_ok && (abs(lambda - entry) <= lambda * T(0.000003814697265625));
+            mask_t<T> ok = ((ok_den && lambda > T(0)) && ((evaluate(p.q, x) <= T(0)) || rim)) && (p.caps[s] > T(0));
             if constexpr (Opt.bound) ok = ok && dot(x, x) <= r2;
             if constexpr (Opt.cull) ok = ok && (sign * av < T(0));
             best = nearer(best, Candidate<T>{ok, lambda, sign * p.axis});
