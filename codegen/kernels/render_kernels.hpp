@@ -553,6 +553,53 @@ struct OccluderEllipseKernel {
     }
 };
 
+/// Occlusion culling, per occluder chain (capped cylinders): its number of disks
+/// (`occluder_chain_count`).
+struct OccluderChainCountKernel {
+    static constexpr const char* name = "occluder_chain_count";
+    static constexpr const char* source = "quadcast::occluder_chain_count (quadcast/occlusion.hpp)";
+    static constexpr const char* summary = "the number of disks of an occluder chain along a cylinder";
+    template <class IO> static void run(IO& io) {
+        using T = typename IO::T;
+        const Vec3<T> half_axis = io.template vec<3>("half_axis");
+        const T r_in = io.scalar("r_in");
+        io.out("n", occluder_chain_count(half_axis, r_in));
+    }
+    static void generate(std::mt19937& rng, std::span<float> in) {
+        std::size_t p = 0;
+        const float r = uniform(rng, 0.001f, 2.0f);
+        put(in, p, random_direction(rng) * (r * uniform(rng, 0.0f, 40.0f)));
+        put(in, p, r);
+    }
+};
+
+/// Occlusion culling, per disk of an occluder chain: its centre and the radius of a ball around
+/// it holding the primitive (`occluder_chain_disk`).
+struct OccluderChainDiskKernel {
+    static constexpr const char* name = "occluder_chain_disk";
+    static constexpr const char* source = "quadcast::occluder_chain_disk (quadcast/occlusion.hpp)";
+    static constexpr const char* summary = "one disk of an occluder chain along a cylinder";
+    template <class IO> static void run(IO& io) {
+        using T = typename IO::T;
+        const Vec3<T> c = io.template vec<3>("c"), half_axis = io.template vec<3>("half_axis");
+        const T radius = io.scalar("radius"), k = io.scalar("k"), n = io.scalar("n");
+        Vec3<T> ck{};
+        T radius_k{};
+        occluder_chain_disk(c, half_axis, radius, k, n, ck, radius_k);
+        io.out("ck", ck);
+        io.out("radius_k", radius_k);
+    }
+    static void generate(std::mt19937& rng, std::span<float> in) {
+        std::size_t p = 0;
+        put(in, p, random_point(rng, 60.0f));
+        put(in, p, random_direction(rng) * uniform(rng, 0.0f, 3.0f));
+        put(in, p, uniform(rng, 0.01f, 4.0f));
+        const float n = std::floor(uniform(rng, 1.0f, 65.0f));
+        put(in, p, std::floor(uniform(rng, 0.0f, n)));
+        put(in, p, n);
+    }
+};
+
 /// Occlusion culling, per pixel of an occluder: whether its centre falls in the occluder's
 /// ellipse (`ellipse_covers`).
 struct EllipseCoversKernel {

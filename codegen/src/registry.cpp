@@ -61,6 +61,8 @@ const std::vector<KernelDef>& registry() {
         make_kernel<OccluderDepthKernel>(),
         make_kernel<NearestDistanceKernel>(),
         make_kernel<OccluderEllipseKernel>(),
+        make_kernel<OccluderChainCountKernel>(),
+        make_kernel<OccluderChainDiskKernel>(),
         make_kernel<EllipseCoversKernel>(),
         make_kernel<PixelSpanKernel>(),
         make_kernel<ShadowCoordKernel>(),

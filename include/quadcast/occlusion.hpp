@@ -87,6 +87,30 @@ void occluder_ellipse(const Mat4<T>& view_projection, const Vec3<T>& c, const Ve
     hi = centre + axes;
 }
 
+/// The number of disks of an occluder chain (quadcast::render::occluder_half_axis) of half axis
+/// `half_axis` and disk radius `r_in`: 1 + ceil(2 |half_axis| / r_in), so that neighbouring
+/// disks lie at most r_in apart, at most 64 (then farther apart: fewer pixels occluded, none
+/// wrongly); 1 for a zero half axis.
+/// Numerics: length, one division, ceil as -floor(-x), min.
+template <class T>
+T occluder_chain_count(const Vec3<T>& half_axis, const T& r_in) {
+    const T l = length(half_axis);
+    return min(T(1) - floor(-((l + l) / r_in)), T(64));  // ceil(x) = -floor(-x)
+}
+
+/// Disk k (0 <= k < n) of an occluder chain around centre c: its centre c + half_axis t_k with
+/// t_k = 2 k / (n - 1) - 1 (t = 0 for n = 1), and the radius of a ball around it that holds the
+/// primitive, radius + |half_axis| |t_k| (for `occluder_usable`: the primitive's bounding sphere
+/// of radius `radius` around c lies in it).
+/// Numerics: t = (k + k) / max(n - 1, 1) - 1, exact for n = 1; c + half_axis * t; the radius grown
+/// by 2^-20 of itself against the rounding of the centre.
+template <class T>
+void occluder_chain_disk(const Vec3<T>& c, const Vec3<T>& half_axis, const T& radius, const T& k, const T& n, Vec3<T>& ck, T& radius_k) {
+    const T t = select(n > T(1), (k + k) / max(n - T(1), T(1)) - T(1), T(0));
+    ck = c + half_axis * t;
+    radius_k = (radius + length(half_axis) * abs(t)) * T(1.0 + 1.0 / 1048576.0);
+}
+
 /// Whether the centre `frag` (window coordinates) of a pixel of a viewport falls in the NDC
 /// ellipse (centre, axes) of `occluder_ellipse`.
 /// Numerics: ndc = frag * (2 / size) - 1 (exact scaling by a power of two for power-of-two sizes,

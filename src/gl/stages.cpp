@@ -82,6 +82,8 @@ std::string bound_glsl(const std::string& proj, bool rects) {
 
 const char* bound_uniforms =
     "uniform mat4 qc_view;\nuniform mat4 qc_projection;\nuniform mat4 qc_view_projection;\n"
+    "uniform vec3 qc_vz_row;           // third row of the world->view rotation\n"
+    "uniform float qc_vz_t;            // the view matrix's z translation\n"
     "uniform vec3 qc_near_corners[4];  // view space, used when the eye is inside a bounding sphere\n"
     "uniform int qc_bound;             // quadcast::RectBound of the variant; 0: the bounding-sphere quad\n"
     "uniform vec2 qc_viewport;\nuniform uint qc_first;\n";
@@ -104,11 +106,12 @@ Stage vertex_shader(bool ortho) {
     add_kernel(s, fns, "primitive_bound_" + proj);
     add_kernel(s, fns, "clip_position");
     if (!ortho) add_kernel(s, fns, "primitive_cull");
+    add_kernel(s, fns, "nearest_distance");
     std::ostringstream m;
     m << record_glsl;
     m << bound_uniforms << "uniform bool qc_slab_quad;        // slab bounds: the quadrilateral along the axis, else the rectangle\n"
          "uniform vec3 qc_eye;\nuniform bool qc_cull;\nuniform bool qc_caps;   // the variant closes a slab with caps\n\n"
-         "flat out uint qc_prim;\n\n";
+         "flat out uint qc_prim;\nflat out float qc_nearest;  // nearest view distance of the bounding sphere (the fragment stage's occlusion test)\n\n";
     m << fns.str();
     m << visible_glsl;
     m << "// Indexed draw: vertex 4 i + k is corner k of primitive qc_first + i (two triangles share two);\n"
@@ -125,7 +128,8 @@ Stage vertex_shader(bool ortho) {
     if (!ortho)
         m << "    if (qc_cull)\n"
              "        qc_primitive_cull(q, qc_record_center(p), qc_record_radius(p), qc_record_axis(p), qc_record_half_length(p), qc_eye, culled, culled_caps);\n";
-    m << "    qc_prim = prim;\n"
+    m << "    qc_nearest_distance(qc_vz_row, qc_vz_t, qc_record_center(p), qc_record_radius(p), qc_nearest);\n"
+         "    qc_prim = prim;\n"
          "    gl_Position = (qc_cull && (qc_caps ? culled_caps : culled)) ? vec4(2.0, 2.0, 2.0, 1.0) : clip;\n"
          "}\n";
     s.text = m.str();
@@ -141,9 +145,11 @@ Stage sphere_vertex_shader(bool ortho) {
     const std::string proj = ortho ? "ortho" : "perspective";
     add_kernel(s, fns, "primitive_bound_" + proj);
     add_kernel(s, fns, "clip_position");
+    add_kernel(s, fns, "nearest_distance");
     std::ostringstream m;
     m << record_glsl;
     m << bound_uniforms << "\n"
+         "flat out float qc_nearest;  // nearest view distance of the sphere (the fragment stage's occlusion test)\n"
          "flat out float qc_radius;\nflat out vec3 qc_center;\nflat out vec3 qc_prim_color;\nflat out vec2 qc_prim_material;  // specular, shininess\n\n";
     m << fns.str();
     m << visible_glsl;
@@ -156,7 +162,8 @@ Stage sphere_vertex_shader(bool ortho) {
          "    int k = gl_VertexID % 4;\n"
          "    qc_Primitive p = qc_prims[prim];\n"
       << bound_glsl(proj, false)
-      << "    qc_radius = qc_record_radius(p);\n"
+      << "    qc_nearest_distance(qc_vz_row, qc_vz_t, qc_record_center(p), qc_record_radius(p), qc_nearest);\n"
+         "    qc_radius = qc_record_radius(p);\n"
          "    qc_center = qc_record_center(p);\n"
          "    qc_prim_color = qc_record_color(p);\n"
          "    qc_prim_material = qc_record_material(p);\n"
@@ -207,6 +214,12 @@ Stage fragment_shader(const render::QuadricKey& k) {
         m << "uniform vec3 qc_light_dir;    // towards the scene\nuniform vec3 qc_light_color;\n"
              "uniform vec4 qc_material;     // ambient, diffuse, specular, shininess\n";
     if (env) m << environment_uniforms;
+    m << "\n// Occlusion culling: the occluder depth image of the cull pass (level 0 of its pyramid: per pixel\n"
+         "// the bits of a view distance no nearer than what the pixel shows, or all ones).\n"
+         "layout(std430, binding = 3) readonly buffer qc_Depths { uint qc_depth[]; };\n"
+         "uniform bool qc_early;        // the cull pass ran for this pass: test against its depth image\n"
+         "uniform int qc_depth_width;   // its width (the viewport's)\n"
+         "flat in float qc_nearest;     // the primitive's nearest view distance (quadcast::nearest_distance)\n";
     if (sphere)
         m << "\nflat in float qc_radius;\nflat in vec3 qc_center;\nflat in vec3 qc_prim_color;\nflat in vec2 qc_prim_material;\n";
     else
@@ -219,6 +232,8 @@ Stage fragment_shader(const render::QuadricKey& k) {
         m << "layout(location = 0) out vec4 qc_color;\n\n";
     m << fns.str();
     m << "void main()\n{\n"
+         "    // Behind the occluders at this pixel: nothing of this primitive can show here (quadcast/occlusion.hpp)\n"
+         "    if (qc_early && qc_nearest > 0.0 && floatBitsToUint(qc_nearest) > qc_depth[int(gl_FragCoord.y) * qc_depth_width + int(gl_FragCoord.x)]) discard;\n"
       << (sphere ? "" : "    qc_Primitive p = qc_prims[qc_prim];\n")
       << "    bool hit;\n    float depth;\n    vec3 n;\n";
     m << "    vec3 ro, rd;\n";
@@ -364,12 +379,12 @@ Stage deferred_shader(bool silhouettes, bool shadows, bool env) {
 const char* passthrough_fragment =
     "layout(location = 0) out vec4 qc_color;\n\nvoid main()\n{\n    qc_color = vec4(0.5, 0.5, 0.5, 1.0);\n    gl_FragDepth = gl_FragCoord.z;\n}\n";
 
-/// The buffers the occlusion passes share: the occluder ball of each record (its centre and
-/// quadcast::render::occluder_radius, 0: none) and the max-depth pyramid (level 0: the occluder depth of
+/// The buffers the occlusion passes share: the occluder of each record (its centre,
+/// quadcast::render::occluder_radius (0: none), bounding radius and occluder_half_axis) and the max-depth pyramid (level 0: the occluder depth of
 /// every pixel, float bits of positive view distances, which order as unsigned integers; no
 /// occluder: 0xffffffff), each level at an offset with its size.
 const char* occlusion_buffers =
-    "layout(std430, binding = 2) readonly buffer qc_Occluders { vec4 qc_occluder[]; };  // per record: centre, ball radius (0: none); bounding radius\n"
+    "layout(std430, binding = 2) readonly buffer qc_Occluders { vec4 qc_occluder[]; };  // per record: centre, ball radius (0: none); bounding radius, chain half axis\n"
     "layout(std430, binding = 3) buffer qc_Depths { uint qc_depth[]; };\n"
     "uniform uint qc_first;   // the variant's first record\n"
     "uniform uint qc_count;   // its records\n"
@@ -378,7 +393,8 @@ const char* occlusion_buffers =
     "uniform vec2 qc_viewport;\n"
     "uniform mat4 qc_view_projection;\n";
 
-/// Occlusion pass 1: per record with a usable occluder ball (`occluder_depth`: all of the
+/// Occlusion pass 1: per record with occluder balls (one, or a chain along a capped cylinder:
+/// `occluder_chain_count`, `occluder_chain_disk`), per usable ball (`occluder_depth`: all of the
 /// primitive beyond the near plane, the disk before the far plane, depths resolved), the pixels whose centres fall in the ellipse its disk projects to
 /// (`occluder_ellipse`, `ellipse_covers`, over `pixel_span` of the ellipse's box) take the disk's
 /// view distance where it is nearer than theirs. Plain loads and stores: any occluder's value is
@@ -390,6 +406,8 @@ Stage occluder_shader() {
     add_kernel(s, fns, "occluder_ellipse");
     add_kernel(s, fns, "pixel_span");
     add_kernel(s, fns, "ellipse_covers");
+    add_kernel(s, fns, "occluder_chain_count");
+    add_kernel(s, fns, "occluder_chain_disk");
     std::ostringstream m;
     m << "layout(local_size_x = 64) in;\n\n" << record_glsl << occlusion_buffers
       << "uniform vec3 qc_right, qc_up;    // first two rows of the world->view rotation\n"
@@ -397,15 +415,10 @@ Stage occluder_shader() {
          "uniform vec4 qc_pz;             // P22, P32, P23, P33 of the projection\n"
          "uniform uint qc_max_pixels;     // larger boxes are left out\n\n"
       << fns.str()
-      << "void main()\n{\n"
-         "    if (gl_GlobalInvocationID.x >= qc_count) return;\n"
-         "    uint prim = qc_first + gl_GlobalInvocationID.x;\n"
-         "    vec4 ball = qc_occluder[2u * prim];\n"
-         "    float r_in = ball.w;\n"
-         "    if (!(r_in > 0.0)) return;\n"
-         "    vec3 c = ball.xyz;\n"
+      << "// One disk: centre c, radius r_in, in a ball of radius `radius` holding the primitive.\n"
+         "void qc_write_disk(vec3 c, float r_in, float radius)\n{\n"
          "    float s;\n    bool usable;\n"
-         "    qc_occluder_depth(qc_vz_row, qc_vz_t, c, r_in, qc_occluder[2u * prim + 1u].x, qc_occluder_range.x, qc_occluder_range.y, qc_occluder_range.z, qc_pz, s, usable);\n"
+         "    qc_occluder_depth(qc_vz_row, qc_vz_t, c, r_in, radius, qc_occluder_range.x, qc_occluder_range.y, qc_occluder_range.z, qc_pz, s, usable);\n"
          "    if (!usable) return;\n"
          "    vec2 centre, axes, lo, hi;\n"
          "    qc_occluder_ellipse(qc_view_projection, c, qc_right, qc_up, r_in, centre, axes, lo, hi);\n"
@@ -422,6 +435,21 @@ Stage occluder_shader() {
          "            qc_ellipse_covers(vec2(x, y) + 0.5, qc_viewport, centre, axes, covered);\n"
          "            if (covered && bits < qc_depth[y * width + x]) qc_depth[y * width + x] = bits;\n"
          "        }\n"
+         "}\n\n"
+         "void main()\n{\n"
+         "    if (gl_GlobalInvocationID.x >= qc_count) return;\n"
+         "    uint prim = qc_first + gl_GlobalInvocationID.x;\n"
+         "    vec4 ball = qc_occluder[2u * prim];\n"
+         "    vec4 more = qc_occluder[2u * prim + 1u];  // bounding radius, the chain's half axis\n"
+         "    float r_in = ball.w;\n"
+         "    if (!(r_in > 0.0)) return;\n"
+         "    float n;\n"
+         "    qc_occluder_chain_count(more.yzw, r_in, n);\n"
+         "    for (float k = 0.0; k < n; k += 1.0) {\n"
+         "        vec3 ck;\n        float radius_k;\n"
+         "        qc_occluder_chain_disk(ball.xyz, more.yzw, more.x, k, n, ck, radius_k);\n"
+         "        qc_write_disk(ck, r_in, radius_k);\n"
+         "    }\n"
          "}\n";
     s.text = m.str();
     return s;

@@ -10,6 +10,7 @@
 #include "quadcast/gl/osmesa_context.hpp"
 #include "quadcast/gl/quadric_renderer.hpp"
 #include "quadcast/render/cpu_renderer.hpp"
+#include "quadcast/occlusion.hpp"
 #include "quadcast/render/occluder.hpp"
 #include "render/bounds_scenes.hpp"
 
@@ -213,6 +214,47 @@ TEST_CASE("occluder balls lie inside their solids") {
             }
     }
     CHECK(occluders == 48);  // spheres, ellipsoids and capped cylinders: 6 of every 8
+    // Chains along capped sticks: every disk's ball of radius 16/15 r_in (what the gap of
+    // occluder_usable assumes) inside the solid, 1 to 40 radii long.
+    long chain_disks = 0;
+    for (int i = 0; i < 200; ++i) {
+        std::mt19937 rng(static_cast<unsigned>(100 + i));
+        std::uniform_real_distribution<float> u(-1.0f, 1.0f), len(0.5f, 40.0f);
+        const glm::vec3 a(u(rng), u(rng), u(rng)), d = glm::normalize(glm::vec3(u(rng), u(rng), u(rng)) + glm::vec3(1e-3f));
+        const float r = 0.01f + 0.2f * (u(rng) + 1.0f);
+        const Primitive p = shapes::cylinder(a, a + d * (r * len(rng)), r, shapes::Ends::both);
+        const quadcast::render::OccluderShape o = quadcast::render::occluder_shape(p);
+        REQUIRE(o.r_in > 0.0f);
+        const float n = quadcast::occluder_chain_count(o.half_axis, o.r_in);
+        CHECK(n >= 1.0f);
+        for (float k = 0; k < n; k += 1.0f) {
+            quadcast::Vec3<float> ck{};
+            float radius_k = 0;
+            quadcast::occluder_chain_disk(p.shape.center, o.half_axis, p.shape.radius, k, n, ck, radius_k);
+            ++chain_disks;
+            // (less 2^-12: the slab axis and the float quadric's own axis agree to ~1e-7, which
+            // over a chain 40 radii long moves a ball ~4e-6 radii; the gap's 1% slack covers it)
+            const long double rho = static_cast<long double>(o.r_in) * 16 / 15 * (1 - 1.0L / 4096);
+            for (int ti = 0; ti <= 8; ++ti)
+                for (int j = 0; j < 16; ++j) {
+                    const long double th = 3.14159265358979L * ti / 8, ph = 6.28318530717959L * j / 16;
+                    long double x[4] = {rho * std::sin(th) * std::cos(ph), rho * std::sin(th) * std::sin(ph), rho * std::cos(th), 1.0L};
+                    for (int c = 0; c < 3; ++c) x[c] += static_cast<long double>(ck[c]) - static_cast<long double>(p.shape.center[c]);
+                    long double f = 0, along = 0;
+                    for (int aa = 0; aa < 4; ++aa)
+                        for (int bb = 0; bb < 4; ++bb) f += x[aa] * static_cast<long double>(p.shape.q.q[bb][aa]) * x[bb];
+                    for (int c = 0; c < 3; ++c) along += x[c] * p.shape.axis[c];
+                    CHECK(f < 0);
+                    CHECK(std::fabs(along) < p.shape.half_length);
+                }
+            // The ball around the disk holding the primitive: its bounding sphere inside it, with
+            // the 2^-10 that nearest_distance adds
+            const long double off = std::sqrt(std::pow(static_cast<long double>(ck[0]) - p.shape.center[0], 2) + std::pow(static_cast<long double>(ck[1]) - p.shape.center[1], 2) +
+                                              std::pow(static_cast<long double>(ck[2]) - p.shape.center[2], 2));
+            CHECK(off + p.shape.radius <= radius_k * (1 + 1.0L / 1024));
+        }
+    }
+    CHECK(chain_disks > 2000);
     // An ellipsoid of the other sign (f > 0 inside) does not occlude.
     Primitive flipped = shapes::sphere({0, 0, 0}, 1.0f);
     flipped.variant = Variant::ellipsoid;

@@ -41,6 +41,7 @@ struct BoundsBenchOptions {
     bool culling = true;
     bool compare = false;
     bool sticks = false;
+    bool deferred = false;
 };
 
 std::vector<render::Primitive> random_spheres(int n, unsigned seed, render::Variant variant) {
@@ -92,8 +93,10 @@ void run_bounds_bench(const BoundsBenchOptions& o) {
                 "'cull': tight rectangles and the occlusion cull pass ('of it cp': the cull pass's GPU time); 'drawn': primitives the cull pass keeps;\nper covered pixel: fragments "
                 "rasterised ('rast') and fragment-shader invocations ('fs', llvmpipe: 16 per 4x4 block shaded)%s\n", o.frames,
                 o.sticks ? ";\n'rect': tight axis-aligned rectangles instead of the quadrilaterals, no cull pass" : "");
+    std::printf("'late': the cull pass without the fragment stage's early discard against the occluder depth image\n");
     std::printf("%10s %9s %8s %8s %8s %8s %10s %10s %7s %6s %6s %6s %7s %7s %7s", o.sticks ? "sticks" : "spheres", "covered", "quad ms", "tight ms", "cull ms", "of it cp",
                 "quad/cull", "tight/cull", "drawn", "q rast", "t rast", "c rast", "q fs", "t fs", "c fs");
+    std::printf(" %9s %11s", "late ms", "late/cull");
     if (o.sticks) std::printf(" %8s %10s %7s", "rect ms", "rect/tight", "r rast");
     if (o.compare) std::printf(" %16s %14s", "closed cull ms", "sphere/closed");
     std::printf("\n");
@@ -112,6 +115,7 @@ void run_bounds_bench(const BoundsBenchOptions& o) {
         m.width = o.width;
         m.height = o.height;
         m.culling = o.culling;
+        m.deferred = o.deferred;
         m.occlusion_culling = false;
     }
     modes[0].tight_bounds = false;
@@ -133,17 +137,27 @@ void run_bounds_bench(const BoundsBenchOptions& o) {
         }
         const std::size_t drawn = r.drawn_primitives();
         const long covered = std::max(1L, covered_pixels(r));
+        // Culling must not change the picture: the cull frame against the tight frame
+        const render::Image culled_img = r.read();
+        r.draw(cam, light, modes[1]);
+        const render::Image tight_img = r.read();
+        long img_diff = 0;
+        for (std::size_t i = 0; i < culled_img.depth.size(); ++i)
+            img_diff += culled_img.depth[i] != tight_img.depth[i] || culled_img.rgba[4 * i] != tight_img.rgba[4 * i] ||
+                        culled_img.rgba[4 * i + 1] != tight_img.rgba[4 * i + 1] || culled_img.rgba[4 * i + 2] != tight_img.rgba[4 * i + 2];
+        if (img_diff) std::printf("WARNING: %ld pixels differ between the culled and the unculled frame\n", img_diff);
         r.set_count_fragments(false);
         r.set_fragment_stage(gl::QuadricRenderer::FragmentStage::passthrough);
         r.set_depth_test(false);
+        auto forward = [](render::RenderOptions ro) { ro.deferred = false; return ro; };  // pass-through shades forward only
         for (int m = 0; m < 3; ++m) {
-            r.draw(cam, light, modes[m]);
+            r.draw(cam, light, forward(modes[m]));
             rast[m] = static_cast<double>(r.samples_passed());
         }
         double rast_rect = 0.0;  // sticks: tight rectangles instead of the quadrilaterals
         if (o.sticks) {
             r.set_slab_quads(false);
-            r.draw(cam, light, modes[1]);
+            r.draw(cam, light, forward(modes[1]));
             rast_rect = static_cast<double>(r.samples_passed());
             r.set_slab_quads(true);
         }
@@ -152,10 +166,13 @@ void run_bounds_bench(const BoundsBenchOptions& o) {
         r.draw(cam, light, modes[2]);  // warm-up
         if (general) general->draw(cam, light, modes[2]);  // warm-up
         // Time the frames, interleaved
-        std::vector<double> ms[3], ms_general, ms_cull, ms_rect;
+        std::vector<double> ms[3], ms_general, ms_cull, ms_rect, ms_late;
         for (int i = 0; i < o.frames; ++i) {
             for (int m = 0; m < 3; ++m) ms[m].push_back(time_frame(r, modes[m]));
             ms_cull.push_back(r.cull_pass_ms());
+            r.set_early_discard(false);
+            ms_late.push_back(time_frame(r, modes[2]));
+            r.set_early_discard(true);
             if (o.sticks) {
                 r.set_slab_quads(false);
                 ms_rect.push_back(time_frame(r, modes[1]));
@@ -167,6 +184,8 @@ void run_bounds_bench(const BoundsBenchOptions& o) {
         std::printf("%10d %9ld %8.1f %8.1f %8.1f %8.1f %9.2fx %9.2fx %6.1f%% %6.2f %6.2f %6.2f %7.2f %7.2f %7.2f", n, covered, t[0], t[1], t[2], median(ms_cull), t[0] / t[2], t[1] / t[2],
                     100.0 * static_cast<double>(drawn) / std::max(1, n), rast[0] / covered, rast[1] / covered, rast[2] / covered, frag[0] / covered,
                     frag[1] / covered, frag[2] / covered);
+        const double t_late = median(ms_late);
+        std::printf(" %9.1f %10.2fx", t_late, t_late / t[2]);
         if (o.sticks) {
             const double t_rect = median(ms_rect);
             std::printf(" %8.1f %9.2fx %7.2f", t_rect, t_rect / t[1], rast_rect / covered);
@@ -190,6 +209,7 @@ void add_bench_spheres(CLI::App& bench) {
     cmd->add_flag("--compare", o->compare, "also time the general closed-quadric variant, interleaved, and print the ratio");
     cmd->add_option("--width", o->width, "image width")->check(CLI::Range(16, 8192));
     cmd->add_option("--height", o->height, "image height")->check(CLI::Range(16, 8192));
+    cmd->add_flag("--deferred", o->deferred, "shade in the deferred pass (geometry buffer) instead of in the primitive pass");
     cmd->callback([o] { run_bounds_bench(*o); });
 
     auto s = std::make_shared<BoundsBenchOptions>();
@@ -198,6 +218,9 @@ void add_bench_spheres(CLI::App& bench) {
     CLI::App* sticks = bench.add_subcommand("sticks", "frame time and fragments per covered pixel of N random capped sticks (50k): bounding quads, tight rectangles, occlusion cull pass");
     sticks->add_option("--counts", s->counts, "stick counts");
     sticks->add_option("--frames", s->frames, "timed frames per count and mode")->check(CLI::Range(1, 1000));
+    sticks->add_option("--width", s->width, "image width")->check(CLI::Range(16, 8192));
+    sticks->add_option("--height", s->height, "image height")->check(CLI::Range(16, 8192));
+    sticks->add_flag("--deferred", s->deferred, "shade in the deferred pass (geometry buffer) instead of in the primitive pass");
     sticks->callback([s] { run_bounds_bench(*s); });
 }
 

@@ -53,6 +53,12 @@ public:
     /// default) or, off, over their axis-aligned rectangle (`primitive_rect`). The same picture;
     /// a benchmark switch.
     void set_slab_quads(bool on);
+    /// With RenderOptions::occlusion_culling, the fragment stage first compares the primitive's
+    /// nearest view distance with the cull pass's occluder depth at the pixel and discards the
+    /// fragment before casting its ray when the primitive lies behind (on by default; not for the
+    /// sphere variant, whose cast is about as cheap as the test, nor the planes variant). The same
+    /// picture; a benchmark switch.
+    void set_early_discard(bool on);
     /// Samples that passed (GL_SAMPLES_PASSED) in the primitive pass of the last `draw`.
     std::uint64_t samples_passed() const;
     /// Count fragment-shader invocations of the primitive pass (GL_ARB_pipeline_statistics_query,

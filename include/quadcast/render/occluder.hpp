@@ -13,6 +13,13 @@
 
 namespace quadcast::render {
 
+/// What a primitive occludes with (`occluder_radius`, `occluder_half_axis`).
+struct OccluderShape {
+    float r_in = 0.0f;     ///< `occluder_radius`
+    Vec3<float> half_axis{{0.0f, 0.0f, 0.0f}};  ///< `occluder_half_axis`
+};
+inline OccluderShape occluder_shape(const Primitive& p);
+
 /// The radius of a ball around `p.shape.center` inside the primitive's solid (f < 0 as stored:
 /// the side the fragment stage's front-root selection treats as inside), times 15/16 (the margin
 /// `occluder_ellipse` and `occluder_usable` rely on); 0 when the primitive does not occlude this way:
@@ -23,11 +30,23 @@ namespace quadcast::render {
 ///   half_length / |axis|) (the slab is |axis . x| <= half_length);
 /// - anything else (open slabs, cones, bounded and planes variants): 0.
 /// `p` must have passed `validate`.
-inline float occluder_radius(const Primitive& p) {
+inline float occluder_radius(const Primitive& p) { return occluder_shape(p).r_in; }
+
+/// A chain of occluder balls along a closed centred cylinder (the slab case of
+/// `occluder_radius`) whose half length h = half_length / |axis| exceeds its shortest semi-axis
+/// rho: the balls of radius rho centred on the axis within h - rho of the centre lie inside the
+/// solid, so each disk of radius `occluder_radius` (rho 15/16) around c + t half_axis, |t| <= 1,
+/// with half_axis = axis / |axis| (h - rho), is an occluder (quadcast::occluder_chain_disk).
+/// A capped stick of length 10 radii occludes with the sausage of 10 disks instead of one disk.
+/// Zero for every other primitive.
+inline Vec3<float> occluder_half_axis(const Primitive& p) { return occluder_shape(p).half_axis; }
+
+/// Both at once (one eigen-decomposition).
+inline OccluderShape occluder_shape(const Primitive& p) {
     using namespace validate_detail;
     constexpr double margin = 15.0 / 16.0;
-    if (p.variant == Variant::sphere) return static_cast<float>(static_cast<double>(p.shape.radius) * margin);
-    if (p.variant != Variant::ellipsoid && p.variant != Variant::slab) return 0.0f;
+    if (p.variant == Variant::sphere) return {static_cast<float>(static_cast<double>(p.shape.radius) * margin), {}};
+    if (p.variant != Variant::ellipsoid && p.variant != Variant::slab) return {};
     M3 a{};
     V3 b{};
     double c = 0;
@@ -35,19 +54,24 @@ inline float occluder_radius(const Primitive& p) {
     // As stored: with f > 0 inside, front-root selection shows the far wall (not an occluder).
     const V3 lam = symmetric_eigenvalues(a);
     const double scale = lam[2];
-    if (!(scale > 0) || !(c < 0)) return 0.0f;
+    if (!(scale > 0) || !(c < 0)) return {};
     // Centred: |b| small against the size of the form (b = 0 for the shapes' quadrics, up to rounding).
-    if (length(b) > 1e-6 * std::sqrt(scale * -c)) return 0.0f;
+    if (length(b) > 1e-6 * std::sqrt(scale * -c)) return {};
     double r = std::sqrt(-c / scale);
+    OccluderShape out;
     if (p.variant == Variant::ellipsoid) {
-        if (!(lam[0] > 0)) return 0.0f;
+        if (!(lam[0] > 0)) return {};
     } else {
-        if (!(p.shape.caps[0] == 1.0f && p.shape.caps[1] == 1.0f)) return 0.0f;
+        if (!(p.shape.caps[0] == 1.0f && p.shape.caps[1] == 1.0f)) return {};
         const V3 axis = cast<double>(p.shape.axis), ax = normalize(axis);
-        if (length(a * ax) > 1e-6 * scale || !(lam[0] > -1e-6 * scale) || !(lam[1] > 1e-6 * scale)) return 0.0f;
-        r = std::min(r, static_cast<double>(p.shape.half_length) / length(axis));
+        if (length(a * ax) > 1e-6 * scale || !(lam[0] > -1e-6 * scale) || !(lam[1] > 1e-6 * scale)) return {};
+        const double h = static_cast<double>(p.shape.half_length) / length(axis);
+        // (1 - 2^-20: the float rounding of the half axis stays inside h - r)
+        if (h > r) out.half_axis = cast<float>(ax * ((h - r) * (1.0 - 1.0 / 1048576.0)));
+        r = std::min(r, h);
     }
-    return static_cast<float>(r * margin);
+    out.r_in = static_cast<float>(r * margin);
+    return out;
 }
 
 /// The view distances an occluder ball must lie strictly between (`occluder_usable`): the near
