@@ -1,7 +1,9 @@
 // tests/slim/build.cpp -- the ball cover: surfaces within the threshold, determinism, sharp features, options
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <cstring>
 #include <filesystem>
 #include <random>
@@ -172,4 +174,45 @@ TEST_CASE("a far outlier neither hangs the build nor breaks it, and an overflowi
     CHECK(r.stats.fits < 100 * pts.size());
     pts.positions.back() = vec3(1e308, -1e308, 0.0);
     CHECK_THROWS_WITH_AS(build(pts, o), doctest::Contains("diagonal overflows"), std::invalid_argument);
+}
+
+TEST_CASE("the support check keeps a flat square's planes from reaching far past its edges") {
+    // 1600 points on the unit square z = 0: every plane fit is exact, so without the check the balls
+    // grow to the largest radius and their discs reach up to that far past the edges.
+    OrientedPoints pts;
+    pts.file = "square";
+    for (int i = 0; i < 40; ++i)
+        for (int j = 0; j < 40; ++j) {
+            pts.positions.push_back(vec3((i + 0.5) / 40.0, (j + 0.5) / 40.0, 0.0));
+            pts.normals.push_back(vec3(0.0, 0.0, 1.0));
+        }
+    // How far the disc of each ball's plane (z = 0, the ball's section) reaches outside the square:
+    // the largest distance to the square over 720 points of the disc's rim.
+    auto overhang = [&](const Model& m) {
+        double worst = 0;
+        for (const Ball& b : m.balls) {
+            const double rr = b.radius * b.radius - b.center[2] * b.center[2];
+            if (!(rr > 0)) continue;
+            for (int k = 0; k < 720; ++k) {
+                const double a = k * std::numbers::pi / 360.0;
+                const double x = b.center[0] + std::sqrt(rr) * std::cos(a), y = b.center[1] + std::sqrt(rr) * std::sin(a);
+                const double dx = std::max({0.0, -x, x - 1.0}), dy = std::max({0.0, -y, y - 1.0});
+                worst = std::max(worst, std::sqrt(dx * dx + dy * dy));
+            }
+        }
+        return worst;
+    };
+    BuildOptions opt;
+    opt.error = 1e-3;
+    opt.support_check = false;
+    const BuildResult off = build(pts, opt);
+    opt.support_check = true;
+    const BuildResult on = build(pts, opt);
+    const double h = 1.0 / 40.0;  // the point spacing
+    MESSAGE("square: without the support check " << off.model.balls.size() << " balls, reaching " << overhang(off.model) / h
+                                                 << " spacings past the edges; with it " << on.model.balls.size() << " balls, " << overhang(on.model) / h);
+    CHECK(overhang(off.model) > 8 * h);
+    // 3 h of support, about 2 h more from a disc of m points on half a ball (h = r sqrt(pi / m)).
+    CHECK(overhang(on.model) < 6 * h);
+    CHECK(on.stats.over_threshold == 0);
 }
