@@ -138,11 +138,11 @@ void two_means(const std::vector<Vec3d>& n, const std::vector<std::uint32_t>& id
 /// The support check (BuildOptions::support_check): the zero set of the local quadric inside the
 /// ball (and on the kept side of `plane` when given, world coordinates) lies near the input points.
 /// Sampled where the lines parallel to the three axes through a 7 x 7 grid of [-1, 1]^2 (local
-/// coordinates) cross it; every sample needs an input point within 3 h, h = r sqrt(pi / m) the
+/// coordinates) cross it; every sample needs an input point within 2 h, h = r sqrt(pi / m) the
 /// spacing of m points on a disc of radius r (at least 2 E). A quadric continued past an edge
 /// (a plane beyond the last face points) or a second sheet in the ball fails it.
 bool supported(const Context& cx, const Quadric<double>& local, const Vec3d& c, double r, const Vec4d* plane, std::size_t m) {
-    const double support = std::max(3.0 * r * std::sqrt(std::numbers::pi / double(std::max<std::size_t>(m, 1))), 2.0 * cx.threshold);
+    const double support = std::max(2.0 * r * std::sqrt(std::numbers::pi / double(std::max<std::size_t>(m, 1))), 2.0 * cx.threshold);
     std::vector<std::uint32_t> near;
     for (int a = 0; a < 3; ++a)
         for (int i = 0; i < 7; ++i)

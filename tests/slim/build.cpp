@@ -212,7 +212,8 @@ TEST_CASE("the support check keeps a flat square's planes from reaching far past
     MESSAGE("square: without the support check " << off.model.balls.size() << " balls, reaching " << overhang(off.model) / h
                                                  << " spacings past the edges; with it " << on.model.balls.size() << " balls, " << overhang(on.model) / h);
     CHECK(overhang(off.model) > 8 * h);
-    // 3 h of support, about 2 h more from a disc of m points on half a ball (h = r sqrt(pi / m)).
-    CHECK(overhang(on.model) < 6 * h);
+    // 2 h of support (h = r sqrt(pi / m) counts the ball's m points as a full disc: on half a disc
+    // the spacing is larger), about 3.4 h measured.
+    CHECK(overhang(on.model) < 5 * h);
     CHECK(on.stats.over_threshold == 0);
 }

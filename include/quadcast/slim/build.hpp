@@ -12,7 +12,7 @@
 //     then two bisection steps (geometric mean) between the largest accepted and the smallest
 //     rejected radius. Accepted: the fit (quadcast/slim/fit.hpp) solved, oriented along every
 //     normal, every point of the ball within E (gradient-line distance), and (support_check) its
-//     zero set in the ball near the points: sampled on 147 lines, every sample within 3 point
+//     zero set in the ball near the points: sampled on 147 lines, every sample within 2 point
 //     spacings of an input point (no plane continued past an edge, no second sheet in the ball).
 //  4. Sharp features: when the single quadric is rejected, the normals are split by 2-means
 //     (seeded by the normal farthest from the mean and the one farthest from that, 10 rounds).
@@ -56,7 +56,7 @@ struct BuildOptions {
     double max_radius = 0.25;          ///< relative to the diagonal
     std::size_t min_points = 12;       ///< fewest points in a ball (>= 10)
     bool sharp_features = true;
-    /// Accept a fit only where its zero set in the ball (on its plane's side) stays within 3 point
+    /// Accept a fit only where its zero set in the ball (on its plane's side) stays within 2 point
     /// spacings of the input points (sampled on 147 lines; src/slim/build.cpp `supported`): a
     /// quadric continued past an edge or a second sheet would be drawn by the renderers.
     bool support_check = true;
