@@ -24,6 +24,8 @@ add_library(quadcast_gl STATIC
   ${QUADCAST_ROOT}/src/gl/quadric_renderer.cpp
   ${QUADCAST_ROOT}/src/gl/stages.cpp
   ${QUADCAST_ROOT}/src/gl/spline_stages.cpp
+  ${QUADCAST_ROOT}/src/gl/slim_stages.cpp
+  ${QUADCAST_ROOT}/src/gl/slim_renderer.cpp
   ${QUADCAST_ROOT}/src/gl/validate.cpp)
 add_library(quadcast::gl ALIAS quadcast_gl)
 set_target_properties(quadcast_gl PROPERTIES EXPORT_NAME gl POSITION_INDEPENDENT_CODE ON)

@@ -7,6 +7,7 @@
 #include "kernels/render_kernels.hpp"
 #include "kernels/spline_kernels.hpp"
 #include "kernels/spline_render_kernels.hpp"
+#include "kernels/slim_kernels.hpp"
 
 namespace quadcast::codegen {
 
@@ -91,6 +92,11 @@ const std::vector<KernelDef>& registry() {
         make_kernel<SplineFragmentKernel<3>>(),
         make_kernel<TrilinearFragmentKernel>(),
         make_kernel<PixelRayKernel>(),
+        make_kernel<SlimWeightKernel>(),
+        make_kernel<SlimFragmentKernel<true>>(),
+        make_kernel<SlimFragmentKernel<false>>(),
+        make_kernel<SlimTermsKernel>(),
+        make_kernel<SlimResolveKernel>(),
     };
     return all;
 }

@@ -18,6 +18,7 @@
 #include "quadcast/gl/loader.hpp"
 #include "quadcast/gl/program.hpp"
 #include "quadcast/gl/validate.hpp"
+#include "frame_uniforms.hpp"
 #include "quadcast/render/light_camera.hpp"
 #include "quadcast/render/occluder.hpp"
 #include "quadcast/render/record.hpp"
@@ -29,6 +30,38 @@ namespace quadcast::gl {
 /// generated shaders is declared from the same layout).
 using PrimitiveRecord = std::array<float, render::record_slots * 4>;
 static_assert(sizeof(PrimitiveRecord) == 16 * render::record_slots);
+
+namespace detail {
+
+/// View-space corners of the near-plane rectangle (for primitives whose bounding sphere contains
+/// the eye), slightly inside the near plane so they are not clipped.
+std::array<float, 12> near_corners(const render::Camera& cam) {
+    Mat4<double> P{};
+    for (int j = 0; j < 4; ++j) for (int i = 0; i < 4; ++i) P[j][i] = static_cast<double>(cam.projection[j][i]);
+    std::array<float, 12> r{};
+    const double ndc[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
+    for (int k = 0; k < 4; ++k) {
+        if (cam.orthographic) {
+            // x_ndc = P00 x + P30, y_ndc = P11 y + P31; z just in front of the near plane.
+            const double x = (ndc[k][0] - P[3][0]) / P[0][0], y = (ndc[k][1] - P[3][1]) / P[1][1];
+            const double zn = (-1.0 - P[3][2]) / P[2][2];
+            r[static_cast<std::size_t>(3 * k)] = static_cast<float>(x);
+            r[static_cast<std::size_t>(3 * k + 1)] = static_cast<float>(y);
+            r[static_cast<std::size_t>(3 * k + 2)] = static_cast<float>(zn * 0.999);
+        } else {
+            // Perspective: z_ndc = -1 at z = -n with n = P32 / (P22 - 1); x_ndc = (P00 x + P20 z) / -z.
+            const double n = P[3][2] / (P[2][2] - 1.0) * 1.001;
+            const double z = -n;
+            const double x = (ndc[k][0] * n - P[2][0] * z) / P[0][0], y = (ndc[k][1] * n - P[2][1] * z) / P[1][1];
+            r[static_cast<std::size_t>(3 * k)] = static_cast<float>(x);
+            r[static_cast<std::size_t>(3 * k + 1)] = static_cast<float>(y);
+            r[static_cast<std::size_t>(3 * k + 2)] = static_cast<float>(z);
+        }
+    }
+    return r;
+}
+
+}  // namespace detail
 
 class QuadricRenderer::Impl {
 public:
@@ -155,7 +188,8 @@ public:
         ensure_fbo(opt.width, opt.height);
         // Other passes shade forward without environment reflection: with an environment they
         // go through the geometry buffer (the same image for the primitives).
-        const bool deferred = opt.deferred || opt.silhouettes || opt.shadows || (opt.environment && !passes_.empty());
+        const bool deferred = opt.deferred || opt.silhouettes || opt.shadows || (opt.environment && !passes_.empty()) ||
+                              std::any_of(passes_.begin(), passes_.end(), [](const ScenePass* p) { return p->needs_gbuffer(); });
         if (opt.environment) ensure_environment(opt.environment);
         gl.BindVertexArray(vao_);
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, ssbo_);
@@ -610,33 +644,7 @@ private:
         return cast<float>(host_inverse(cast<double>(cam.projection) * cast<double>(cam.view)));
     }
 
-    /// View-space corners of the near-plane rectangle (for primitives whose bounding sphere
-    /// contains the eye), slightly inside the near plane so they are not clipped.
-    static std::array<float, 12> near_corners(const render::Camera& cam) {
-        Mat4<double> P{};
-        for (int j = 0; j < 4; ++j) for (int i = 0; i < 4; ++i) P[j][i] = static_cast<double>(cam.projection[j][i]);
-        std::array<float, 12> r{};
-        const double ndc[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
-        for (int k = 0; k < 4; ++k) {
-            if (cam.orthographic) {
-                // x_ndc = P00 x + P30, y_ndc = P11 y + P31; z just in front of the near plane.
-                const double x = (ndc[k][0] - P[3][0]) / P[0][0], y = (ndc[k][1] - P[3][1]) / P[1][1];
-                const double zn = (-1.0 - P[3][2]) / P[2][2];
-                r[static_cast<std::size_t>(3 * k)] = static_cast<float>(x);
-                r[static_cast<std::size_t>(3 * k + 1)] = static_cast<float>(y);
-                r[static_cast<std::size_t>(3 * k + 2)] = static_cast<float>(zn * 0.999);
-            } else {
-                // Perspective: z_ndc = -1 at z = -n with n = P32 / (P22 - 1); x_ndc = (P00 x + P20 z) / -z.
-                const double n = P[3][2] / (P[2][2] - 1.0) * 1.001;
-                const double z = -n;
-                const double x = (ndc[k][0] * n - P[2][0] * z) / P[0][0], y = (ndc[k][1] * n - P[2][1] * z) / P[1][1];
-                r[static_cast<std::size_t>(3 * k)] = static_cast<float>(x);
-                r[static_cast<std::size_t>(3 * k + 1)] = static_cast<float>(y);
-                r[static_cast<std::size_t>(3 * k + 2)] = static_cast<float>(z);
-            }
-        }
-        return r;
-    }
+    static std::array<float, 12> near_corners(const render::Camera& cam) { return detail::near_corners(cam); }
 
     void ensure_fbo(int w, int h) {
         if (fbo_ != 0 && w == width_ && h == height_) return;

@@ -54,4 +54,8 @@ inline StageText stage_text(StageText::Kind kind, const std::string& name, const
     return {kind, name, "#version 450 core\n" + banner(name, s, summary) + "\n" + s.text};
 }
 
+/// The quadric renderer's vertex stage of the general variants (src/gl/stages.cpp): the bounding
+/// geometry and per-quadric culling of one record; the SLIM passes draw their `bounded` balls with it.
+Stage quadric_vertex_stage(bool ortho);
+
 }  // namespace quadcast::gl::detail

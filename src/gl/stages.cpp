@@ -665,3 +665,9 @@ std::vector<StageText> program_stages(const render::DeferredKey& k) {
 }
 
 }  // namespace quadcast::gl
+
+namespace quadcast::gl::detail {
+
+Stage quadric_vertex_stage(bool ortho) { return vertex_shader(ortho); }
+
+}  // namespace quadcast::gl::detail

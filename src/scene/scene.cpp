@@ -226,6 +226,8 @@ Aabb Scene::bounds() const {
     }
     for (const auto& x : volumes)
         if (!x.box.empty()) b.extend(x.box);
+    for (const auto& x : slims)
+        for (const auto& ball : x.balls) b.extend(ball.center, Vec3d{{ball.radius, ball.radius, ball.radius}});
     return b;
 }
 
@@ -234,6 +236,12 @@ VolumeBoxFunction g_volume_box = nullptr;
 }
 
 void set_volume_box_function(VolumeBoxFunction f) { g_volume_box = f; }
+
+namespace {
+SlimLoadFunction g_slim_load = nullptr;
+}
+void set_slim_load_function(SlimLoadFunction f) { g_slim_load = f; }
+SlimLoadFunction slim_load_function() { return g_slim_load; }
 VolumeBoxFunction volume_box_function() { return g_volume_box; }
 
 Location Scene::location(const Origin& o) const {
@@ -241,7 +249,7 @@ Location Scene::location(const Origin& o) const {
 }
 
 std::size_t Scene::primitive_count() const {
-    return spheres.size() + ellipsoids.size() + cylinders.size() + cones.size() + quadrics.size() + quads.size() + volumes.size();
+    return spheres.size() + ellipsoids.size() + cylinders.size() + cones.size() + quadrics.size() + quads.size() + volumes.size() + slims.size();
 }
 
 Camera fit_camera(const Aabb& box, double fov_y_deg) {

@@ -2,6 +2,7 @@
 #include "quadcast/scene/scene_json.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -320,6 +321,39 @@ void load_volume(ObjectContext& ctx) {
     ctx.scene.volumes.push_back(v);
 }
 
+/// "slim": a SLIM model file (`quadcast-slim 1`), or a point file (.xyz, .pwn, .ply, .off) built
+/// into one at "error" (required for point files, > 0; an error for model files), by the
+/// installed `slim_load_function()`.
+void load_slim(ObjectContext& ctx) {
+    Slim m;
+    m.material = ctx.material;
+    const std::filesystem::path path = ctx.file_path();
+    m.input = path.string();
+    std::string ext = path.extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    const bool points = ext == ".xyz" || ext == ".pwn" || ext == ".ply" || ext == ".off";
+    if (points) {
+        if (!ctx.entry.has("error"))
+            ctx.value.fail("a point file needs \"error\": the fit threshold relative to the bounding-box diagonal (> 0)");
+        m.error = ctx.entry.at("error").number(Range::positive);
+    } else if (ctx.entry.has("error")) {
+        ctx.entry.at("error").fail("only for point files (.xyz, .pwn, .ply, .off); '" + path.filename().string() + "' is read as a SLIM model");
+    }
+    const SlimLoadFunction f = slim_load_function();
+    if (!f) ctx.value.fail("SLIM surfaces need the slim component (quadcast::slim::install_scene_loader)");
+    try {
+        m.balls = f(path, m.error);
+    } catch (const ParseError& err) {
+        rethrow_from(err, ctx.value);
+    } catch (const std::bad_alloc&) {
+        ctx.value.fail("out of memory while reading '" + m.input + "'");
+    } catch (const std::exception& e) {
+        ctx.value.fail(e.what());
+    }
+    if (m.balls.empty()) ctx.scene.warnings.push_back(ctx.value.warning("the SLIM model has no balls"));
+    ctx.scene.slims.push_back(std::move(m));
+}
+
 // Scene sections -------------------------------------------------------------------------------
 
 Material load_material(const JsonNode& entry, bool& color_given) {
@@ -368,7 +402,7 @@ void load_object(Scene& scene, const JsonNode& entry, std::size_t index, const s
     ObjectContext ctx{scene, entry, entry.at(kind->key), material, color_given, base_dir};
     const TextPosition at = ctx.value.position();
     scene.origins.push_back({scene.spheres.size(), scene.ellipsoids.size(), scene.cylinders.size(), scene.cones.size(),
-                             scene.quadrics.size(), scene.quads.size(), at.line, at.column, index, kind->key});
+                             scene.quadrics.size(), scene.quads.size(), scene.slims.size(), at.line, at.column, index, kind->key});
     kind->load(ctx);
 }
 
@@ -525,6 +559,7 @@ const std::vector<ObjectKind>& object_kinds() {
         {"pdb", {"style", "ball_scale", "bond_radius", "vdw_scale", "strict"}, load_pdb},
         {"off", {"triangles"}, load_off},
         {"volume", {"iso", "scheme"}, load_volume},
+        {"slim", {"error"}, load_slim},
     };
     return kinds;
 }

@@ -135,6 +135,50 @@ void two_means(const std::vector<Vec3d>& n, const std::vector<std::uint32_t>& id
     }
 }
 
+/// The support check (BuildOptions::support_check): the zero set of the local quadric inside the
+/// ball (and on the kept side of `plane` when given, world coordinates) lies near the input points.
+/// Sampled where the lines parallel to the three axes through a 7 x 7 grid of [-1, 1]^2 (local
+/// coordinates) cross it; every sample needs an input point within 2 h, h = r sqrt(pi / m) the
+/// spacing of m points on a disc of radius r (at least 2 E). A quadric continued past an edge
+/// (a plane beyond the last face points) or a second sheet in the ball fails it.
+bool supported(const Context& cx, const Quadric<double>& local, const Vec3d& c, double r, const Vec4d* plane, std::size_t m) {
+    const double support = std::max(2.0 * r * std::sqrt(std::numbers::pi / double(std::max<std::size_t>(m, 1))), 2.0 * cx.threshold);
+    std::vector<std::uint32_t> near;
+    for (int a = 0; a < 3; ++a)
+        for (int i = 0; i < 7; ++i)
+            for (int j = 0; j < 7; ++j) {
+                Vec3d p = vec3(0.0, 0.0, 0.0), e = vec3(0.0, 0.0, 0.0);
+                p[(a + 1) % 3] = (i - 3) / 3.5;
+                p[(a + 2) % 3] = (j - 3) / 3.5;
+                e[a] = 1.0;
+                // f(p + s e) = A s^2 + B s + C from three values
+                const double fm = evaluate(local, p - e), f0 = evaluate(local, p), fp = evaluate(local, p + e);
+                const double A = 0.5 * (fp + fm) - f0, B = 0.5 * (fp - fm), C = f0;
+                double roots[2];
+                int n = 0;
+                const double scale = std::fabs(A) + std::fabs(B) + std::fabs(C);
+                if (std::fabs(A) <= 1e-12 * scale) {
+                    if (std::fabs(B) > 1e-12 * scale) roots[n++] = -C / B;
+                } else {
+                    const double disc = B * B - 4 * A * C;
+                    if (disc >= 0) {
+                        const double q = -0.5 * (B + std::copysign(std::sqrt(disc), B));
+                        roots[n++] = q / A;
+                        if (q != 0) roots[n++] = C / q;
+                    }
+                }
+                for (int k = 0; k < n; ++k) {
+                    const Vec3d u = p + e * roots[k];
+                    if (!(dot(u, u) <= 1.0)) continue;
+                    const Vec3d x = c + u * r;
+                    if (plane && dot(xyz(*plane), x) + (*plane)[3] < 0) continue;
+                    cx.grid.query(x, support, near);
+                    if (near.empty()) return false;
+                }
+            }
+    return true;
+}
+
 /// Tries the ball (c, r) of `points`: a single quadric, else a sharp pair. `ok` when accepted.
 bool attempt(const Context& cx, const Vec3d& c, double r, const std::vector<std::uint32_t>& idx, SeedResult& out) {
     const auto& P = cx.pts.positions;
@@ -145,7 +189,8 @@ bool attempt(const Context& cx, const Vec3d& c, double r, const std::vector<std:
     out.radius = r;
     ++out.fits;
     const LocalFit single = fit_ball(P, N, idx, c, r, cx.opt.fit);
-    const bool single_ok = single.solved && single.oriented && single.max_distance <= cx.threshold;
+    const bool single_ok = single.solved && single.oriented && single.max_distance <= cx.threshold &&
+                           (!cx.opt.support_check || supported(cx, single.local, c, r, nullptr, idx.size()));
     if (single.solved) out.records.push_back(make_record(single, c, r));
     if (single_ok || !cx.opt.sharp_features) return single_ok;
     // Split the normals; a pair needs two distinct, large enough clusters.
@@ -190,6 +235,10 @@ bool attempt(const Context& cx, const Vec3d& c, double r, const std::vector<std:
     // Plane of cluster 0 (world): s (m . (x - c) - t) >= 0, s = +1 unless flipped.
     const double s = best_flip ? -1.0 : 1.0;
     const Vec4d plane0 = vec4(m * s, -s * (dot(m, c) + t));
+    const Vec4d plane1 = -plane0;
+    if (cx.opt.support_check &&
+        (!supported(cx, f0.local, c, r, &plane0, side[0].size()) || !supported(cx, f1.local, c, r, &plane1, side[1].size())))
+        return false;
     out.records.clear();
     out.records.push_back(make_record(f0, c, r));
     out.records.push_back(make_record(f1, c, r));

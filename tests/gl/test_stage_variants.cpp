@@ -74,6 +74,7 @@ TEST_CASE("glslang accepts the stages of every variant key the renderers can ask
     for (const render::DeferredKey& k : render::all_deferred_keys()) validate(dir, render::key_name(k), gl::program_stages(k), seen, count);
     for (const render::OcclusionKey& k : render::all_occlusion_keys()) validate(dir, render::key_name(k), {gl::occlusion_stage(k)}, seen, count);
     for (const render::IsoKey& k : render::all_iso_keys()) validate(dir, render::key_name(k), gl::program_stages(k), seen, count);
+    for (const render::SlimKey& k : render::all_slim_keys()) validate(dir, render::key_name(k), gl::program_stages(k), seen, count);
     for (render::VolumeScheme s : {render::VolumeScheme::qss, render::VolumeScheme::s31})
         validate(dir, "iso coefficients", {gl::coefficient_stage(s)}, seen, count);
     MESSAGE(count << " distinct stage shaders validated");

@@ -1,7 +1,9 @@
 // tests/slim/build.cpp -- the ball cover: surfaces within the threshold, determinism, sharp features, options
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <cstring>
 #include <filesystem>
 #include <random>
@@ -9,64 +11,13 @@
 #include <stdexcept>
 
 #include "quadcast/slim/build.hpp"
+#include "slim/slim_testing.hpp"
 
 using namespace quadcast;
 using namespace quadcast::slim;
+using namespace quadcast::slim::testing;
 
 namespace {
-
-using V3L = Vec<long double, 3>;
-
-V3L to_long(const Vec3d& v) { return vec3((long double)v[0], (long double)v[1], (long double)v[2]); }
-
-/// Uniform points on the ellipsoid with semi-axes a around c (normals outward), `n` of them.
-OrientedPoints ellipsoid_points(const Vec3d& c, const Vec3d& a, int n, std::uint64_t seed) {
-    OrientedPoints p;
-    p.file = "ellipsoid";
-    std::mt19937_64 rng(seed);
-    std::normal_distribution<double> g;
-    for (int i = 0; i < n; ++i) {
-        Vec3d d = normalize(vec3(g(rng), g(rng), g(rng)));
-        const Vec3d x = vec3(a[0] * d[0], a[1] * d[1], a[2] * d[2]);
-        p.positions.push_back(c + x);
-        p.normals.push_back(normalize(vec3(x[0] / (a[0] * a[0]), x[1] / (a[1] * a[1]), x[2] / (a[2] * a[2]))));
-    }
-    return p;
-}
-
-/// Euclidean distance from y to the ellipsoid sum (x_i / a_i)^2 = 1 (centred), in long double:
-/// the closest point x_i = a_i^2 y_i / (t + a_i^2) with t the root of
-/// F(t) = sum (a_i y_i / (t + a_i^2))^2 - 1 on (-a_min^2, inf), found by bisection (Eberly's bracket).
-long double ellipsoid_distance(const V3L& y0, const Vec3d& a) {
-    V3L y;
-    for (int i = 0; i < 3; ++i) y[i] = std::fabs(y0[i]) + 1e-30L;
-    int m = 0;
-    for (int i = 1; i < 3; ++i)
-        if (a[i] < a[m]) m = i;
-    const long double am2 = (long double)a[m] * a[m];
-    long double s = 0;
-    for (int i = 0; i < 3; ++i) s += (long double)a[i] * a[i] * y[i] * y[i];
-    long double lo = -am2 + (long double)a[m] * y[m], hi = -am2 + std::sqrt(s);
-    const auto F = [&](long double t) {
-        long double f = -1;
-        for (int i = 0; i < 3; ++i) {
-            const long double q = (long double)a[i] * y[i] / (t + (long double)a[i] * a[i]);
-            f += q * q;
-        }
-        return f;
-    };
-    for (int it = 0; it < 200; ++it) {
-        const long double mid = 0.5L * (lo + hi);
-        (F(mid) > 0 ? lo : hi) = mid;
-    }
-    const long double t = 0.5L * (lo + hi);
-    long double d2 = 0;
-    for (int i = 0; i < 3; ++i) {
-        const long double x = (long double)a[i] * a[i] * y[i] / (t + (long double)a[i] * a[i]);
-        d2 += (x - y[i]) * (x - y[i]);
-    }
-    return std::sqrt(d2);
-}
 
 /// Newton projection (long double) of x onto the zero set of q, along the gradient; false when it
 /// does not converge.
@@ -223,4 +174,46 @@ TEST_CASE("a far outlier neither hangs the build nor breaks it, and an overflowi
     CHECK(r.stats.fits < 100 * pts.size());
     pts.positions.back() = vec3(1e308, -1e308, 0.0);
     CHECK_THROWS_WITH_AS(build(pts, o), doctest::Contains("diagonal overflows"), std::invalid_argument);
+}
+
+TEST_CASE("the support check keeps a flat square's planes from reaching far past its edges") {
+    // 1600 points on the unit square z = 0: every plane fit is exact, so without the check the balls
+    // grow to the largest radius and their discs reach up to that far past the edges.
+    OrientedPoints pts;
+    pts.file = "square";
+    for (int i = 0; i < 40; ++i)
+        for (int j = 0; j < 40; ++j) {
+            pts.positions.push_back(vec3((i + 0.5) / 40.0, (j + 0.5) / 40.0, 0.0));
+            pts.normals.push_back(vec3(0.0, 0.0, 1.0));
+        }
+    // How far the disc of each ball's plane (z = 0, the ball's section) reaches outside the square:
+    // the largest distance to the square over 720 points of the disc's rim.
+    auto overhang = [&](const Model& m) {
+        double worst = 0;
+        for (const Ball& b : m.balls) {
+            const double rr = b.radius * b.radius - b.center[2] * b.center[2];
+            if (!(rr > 0)) continue;
+            for (int k = 0; k < 720; ++k) {
+                const double a = k * std::numbers::pi / 360.0;
+                const double x = b.center[0] + std::sqrt(rr) * std::cos(a), y = b.center[1] + std::sqrt(rr) * std::sin(a);
+                const double dx = std::max({0.0, -x, x - 1.0}), dy = std::max({0.0, -y, y - 1.0});
+                worst = std::max(worst, std::sqrt(dx * dx + dy * dy));
+            }
+        }
+        return worst;
+    };
+    BuildOptions opt;
+    opt.error = 1e-3;
+    opt.support_check = false;
+    const BuildResult off = build(pts, opt);
+    opt.support_check = true;
+    const BuildResult on = build(pts, opt);
+    const double h = 1.0 / 40.0;  // the point spacing
+    MESSAGE("square: without the support check " << off.model.balls.size() << " balls, reaching " << overhang(off.model) / h
+                                                 << " spacings past the edges; with it " << on.model.balls.size() << " balls, " << overhang(on.model) / h);
+    CHECK(overhang(off.model) > 8 * h);
+    // 2 h of support (h = r sqrt(pi / m) counts the ball's m points as a full disc: on half a disc
+    // the spacing is larger), about 3.4 h measured.
+    CHECK(overhang(on.model) < 5 * h);
+    CHECK(on.stats.over_threshold == 0);
 }

@@ -14,12 +14,15 @@
 #include "quadcast/gl/isosurface_renderer.hpp"
 #include "quadcast/gl/osmesa_context.hpp"
 #include "quadcast/gl/quadric_renderer.hpp"
+#include "quadcast/gl/slim_renderer.hpp"
 #include "quadcast/render/cpu_renderer.hpp"
+#include "quadcast/render/slim_cpu_renderer.hpp"
 #include "quadcast/render/spline_cpu_renderer.hpp"
 #include "quadcast/isosurface.hpp"
 #include "quadcast/volume/load.hpp"
 #include "quadcast/scene/scene_json.hpp"
 #include "quadcast/scene/scene_render.hpp"
+#include "quadcast/slim/scene_loader.hpp"
 
 namespace quadcast::cli {
 
@@ -27,7 +30,7 @@ namespace {
 
 struct RenderArgs {
     std::string scene, output, depth;
-    int width = 1024, height = 768, frames = 0;
+    int width = 1024, height = 768, frames = 0, slim_bits = 16;
     bool cpu = false, timing = false;
 };
 
@@ -117,10 +120,15 @@ std::size_t active_cubes(const std::vector<render::VolumeModel>& volumes) {
     return n;
 }
 
-/// The CPU reference: primitives (if any), then the volumes composited by depth.
+/// The CPU reference: primitives (if any), then the SLIM surfaces and the volumes composited by depth.
 render::Image render_scene_cpu(const render::Frame& fr, const std::vector<render::VolumeModel>& volumes, render::FrameStats* st) {
     render::Image img;
     if (!fr.primitives.empty() || volumes.empty()) img = render::render_cpu(fr.primitives, fr.camera, fr.light, fr.options, st);
+    if (!fr.slim_balls.empty()) {
+        const render::Image s = render::render_slim_cpu(fr.slim_balls, fr.camera, fr.light, fr.options);
+        if (img.rgba.empty()) img = s;
+        else render::composite_by_depth(img, s);
+    }
     if (volumes.empty()) return img;
     std::vector<const render::VolumeModel*> ptrs;
     for (const auto& m : volumes) ptrs.push_back(&m);
@@ -141,6 +149,7 @@ int run_render(const RenderArgs& a) {
     PhaseTimer timer(a.timing);
     scene::Scene sc;
     scene::set_volume_box_function(volume_box);
+    slim::install_scene_loader();
     try {
         sc = scene::load_scene(a.scene);
     } catch (const scene::ParseError& e) {
@@ -170,6 +179,7 @@ int run_render(const RenderArgs& a) {
     release(sc.cones);
     release(sc.quadrics);
     release(sc.quads);
+    release(sc.slims);
     release(sc.origins);
     timer.phase("frame");
     for (const auto& n : fr.notes) std::cerr << a.scene << ": note: " << n << "\n";
@@ -203,6 +213,7 @@ int run_render(const RenderArgs& a) {
             std::printf("%s: %zu primitives, %zu volume(s) (%zu active cubes), %dx%d, median frame %.2f ms over %d frames (CPU reference), %llu casts, %llu culled\n",
                         a.scene.c_str(), fr.primitives.size(), volumes.size(), active_cubes(volumes), a.width, a.height, median(ms), a.frames,
                         static_cast<unsigned long long>(st.fragments), static_cast<unsigned long long>(st.culled));
+            if (!fr.slim_balls.empty()) std::printf("%s: %zu SLIM balls (CPU reference, per-ray blending)\n", a.scene.c_str(), fr.slim_balls.size());
         }
         const int rc = write_outputs(a, img);
         timer.phase("write");
@@ -219,7 +230,11 @@ int run_render(const RenderArgs& a) {
     try {
         gl::QuadricRenderer r(ctx->api());
         gl::IsosurfaceRenderer iso(ctx->api());
+        gl::SlimRenderer slim(ctx->api());
+        slim.set_precision(a.slim_bits);
         r.set_primitives(fr.primitives);
+        slim.set_balls(fr.slim_balls);
+        if (!fr.slim_balls.empty()) r.add_pass(slim);
         // (the renderer keeps its own copy)
         const std::size_t primitive_count = fr.primitives.size();
         release(fr.primitives);
@@ -237,6 +252,8 @@ int run_render(const RenderArgs& a) {
             }
             std::printf("%s: %zu primitives, %dx%d, median frame %.2f ms over %d frames (%s)\n", a.scene.c_str(), primitive_count, a.width,
                         a.height, median(ms), a.frames, ctx->info().renderer.c_str());
+            if (slim.ball_count() > 0)
+                std::printf("%s: %zu SLIM balls, three passes, %d-bit float accumulation targets\n", a.scene.c_str(), slim.ball_count(), slim.precision());
             if (fr.options.occlusion_culling)
                 std::printf("%s: cull pass: %zu primitives drawn, %zu culled outside the view, %zu hidden behind occluders\n", a.scene.c_str(),
                             r.drawn_primitives(), r.frustum_culled(), r.occluded());
@@ -280,6 +297,7 @@ void add_render(CLI::App& app) {
     cmd->add_option("--width", a->width, "image width")->check(CLI::Range(1, 16384));
     cmd->add_option("--height", a->height, "image height")->check(CLI::Range(1, 16384));
     cmd->add_flag("--cpu", a->cpu, "render with the CPU reference renderer");
+    cmd->add_option("--slim-bits", a->slim_bits, "bits per channel of the GL SLIM accumulation targets (16 or 32)")->check(CLI::IsMember({16, 32}));
     cmd->add_option("--depth", a->depth, "also write window depth as PFM (1.0 = background)");
     cmd->add_flag("--timing", a->timing, "print each phase's time and the resident memory after it to stderr (load, frame, context, upload, draw, read, write)");
     cmd->add_option("--frames", a->frames, "time this many frames after a warm-up; print the median")->check(CLI::Range(0, 100000));

@@ -35,6 +35,11 @@ public:
     const Program& get(const render::IsoKey& k) {
         return cached(render::key_name(k), [&] { return program_stages(k); });
     }
+    const Program& get(const render::SlimKey& k) {
+        render::SlimKey c = k;
+        if (c.pass == render::SlimPass::resolve) c.cull = true;
+        return cached(render::key_name(c), [&] { return program_stages(c); });
+    }
     const Program& get(const render::OcclusionKey& k) {
         return cached(render::key_name(k), [&] { return std::vector<StageText>{occlusion_stage(k)}; });
     }

@@ -234,6 +234,7 @@
     X(void, FramebufferTextureLayer, (GLenum target, GLenum attachment, GLuint texture, GLint level, GLint layer)) \
     X(void, FramebufferRenderbuffer, (GLenum target, GLenum attachment, GLenum renderbuffertarget, GLuint renderbuffer)) \
     X(GLenum, CheckFramebufferStatus, (GLenum target)) \
+    X(void, GetFramebufferAttachmentParameteriv, (GLenum target, GLenum attachment, GLenum pname, GLint *params)) \
     X(void, DrawBuffer, (GLenum buf)) \
     X(void, DrawBuffers, (GLsizei n, const GLenum *bufs)) \
     X(void, ReadBuffer, (GLenum src)) \

@@ -19,6 +19,9 @@ public:
     virtual void draw(const render::Camera& cam, const render::Light& light, const render::RenderOptions& opt, bool gbuffer) = 0;
     /// World bounding box of the geometry (for fitting the shadow map); lo > hi when empty.
     virtual void bounds(Vec3<double>& lo, Vec3<double>& hi) const = 0;
+    /// True when the pass draws only into the geometry buffer (the SLIM renderer's blending): the
+    /// quadric renderer then shades the frame deferred (the same image as forward shading).
+    virtual bool needs_gbuffer() const { return false; }
 };
 
 }  // namespace quadcast::gl

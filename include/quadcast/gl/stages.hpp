@@ -29,6 +29,10 @@ std::vector<StageText> program_stages(const render::DeferredKey& k);
 /// The vertex and fragment stages of the isosurface pass.
 std::vector<StageText> program_stages(const render::IsoKey& k);
 
+/// The stages of a SLIM pass (src/gl/slim_stages.cpp): the quadric renderer's vertex stage and
+/// the ball's fragment stage, or the full-screen resolve.
+std::vector<StageText> program_stages(const render::SlimKey& k);
+
 /// The compute stage of an occlusion-culling pass.
 StageText occlusion_stage(const render::OcclusionKey& k);
 

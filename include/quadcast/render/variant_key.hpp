@@ -140,6 +140,17 @@ inline void check(const IsoKey& k) {
         throw std::invalid_argument("trilinear cells have no precomputed coefficients");
 }
 
+/// A pass of the GL SLIM renderer (quadcast/gl/slim_renderer.hpp, Stoll et al. 2006, sec. 5.1.1):
+/// the balls' pushed depth only (visibility), their weighted terms added into the float targets
+/// (accumulate), or the full-screen division into the geometry buffer (resolve).
+enum class SlimPass : std::uint8_t { visibility, accumulate, resolve };
+struct SlimKey {
+    SlimPass pass = SlimPass::visibility;
+    bool cull = true;    ///< front root only (and per-quadric culling in the vertex stage)
+    bool ortho = false;  ///< orthographic camera
+    friend constexpr bool operator==(const SlimKey&, const SlimKey&) = default;
+};
+
 /// A unique, readable name of each key (program cache, error messages), e.g.
 /// `quadric:slab_nocull:ortho:gbuffer`.
 inline std::string key_name(const QuadricKey& k) {
@@ -161,6 +172,22 @@ inline std::string key_name(const IsoKey& k) {
 inline std::string key_name(const OcclusionKey& k) {
     const char* pass = k.pass == OcclusionPass::occluders ? "occluders" : k.pass == OcclusionPass::pyramid ? "pyramid" : k.pass == OcclusionPass::cull ? "cull" : k.pass == OcclusionPass::scan ? "scan" : "compact";
     return std::string("occlusion:") + pass;
+}
+
+inline std::string key_name(const SlimKey& k) {
+    const char* pass = k.pass == SlimPass::visibility ? "visibility" : k.pass == SlimPass::accumulate ? "accumulate" : "resolve";
+    return std::string("slim:") + pass + (k.cull || k.pass == SlimPass::resolve ? "" : "_nocull") + (k.ortho ? ":ortho" : ":perspective");
+}
+
+/// Every SLIM key a renderer can ask for (the resolve pass does not cull: one key per camera).
+inline std::vector<SlimKey> all_slim_keys() {
+    std::vector<SlimKey> out;
+    for (bool ortho : {false, true}) {
+        for (SlimPass p : {SlimPass::visibility, SlimPass::accumulate})
+            for (bool cull : {true, false}) out.push_back({p, cull, ortho});
+        out.push_back({SlimPass::resolve, true, ortho});
+    }
+    return out;
 }
 
 /// Every occlusion key a renderer can ask for.

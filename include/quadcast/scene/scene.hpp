@@ -212,6 +212,34 @@ using VolumeBoxFunction = Aabb (*)(const Volume&);
 void set_volume_box_function(VolumeBoxFunction f);
 VolumeBoxFunction volume_box_function();
 
+/// One ball of a SLIM surface (quadcast::slim::Ball without the slim component's types): the
+/// world quadric x~^T q x~ clipped to the sphere (center, radius) and, with `has_plane`, to
+/// plane[0] x + plane[1] y + plane[2] z + plane[3] >= 0.
+struct SlimBall {
+    Vec3d center;
+    double radius = 0;
+    Mat4d q;
+    bool has_plane = false;
+    std::array<double, 4> plane{};
+};
+
+/// A SLIM surface (the "slim" object kind): a model file, or a point file built at relative
+/// error `error` (> 0; 0 for a model file) when the scene was loaded, by the installed
+/// `slim_load_function` (quadcast::slim::install_scene_loader).
+struct Slim {
+    std::string input;  ///< resolved file path
+    double error = 0;
+    Material material;
+    std::vector<SlimBall> balls;
+};
+
+/// Loads the balls of a SLIM object: a model file when `error` is 0, else builds one from the
+/// points at that relative error. Throws ParseError (naming the model or point file's line) or
+/// std::exception. Installed by programs that link the slim component.
+using SlimLoadFunction = std::vector<SlimBall> (*)(const std::filesystem::path& input, double error);
+void set_slim_load_function(SlimLoadFunction f);
+SlimLoadFunction slim_load_function();
+
 /// Everything the renderer draws: one vector per primitive kind.
 struct Scene {
     std::filesystem::path source;  ///< the scene file ("" when built in code)
@@ -226,6 +254,7 @@ struct Scene {
     std::vector<Quadric> quadrics;
     std::vector<BilinearQuad> quads;
     std::vector<Volume> volumes;  ///< isosurfaces, drawn by the CPU spline renderer
+    std::vector<Slim> slims;      ///< SLIM surfaces, drawn by the SLIM renderers
 
     /// Problems that were handled in a documented way while loading (print them).
     Warnings warnings;
@@ -237,7 +266,7 @@ struct Scene {
     /// kind key's value, `kind` that key ("sphere"; static storage). (No strings per object: a
     /// scene of a million objects keeps 80 bytes each.)
     struct Origin {
-        std::size_t spheres = 0, ellipsoids = 0, cylinders = 0, cones = 0, quadrics = 0, quads = 0;
+        std::size_t spheres = 0, ellipsoids = 0, cylinders = 0, cones = 0, quadrics = 0, quads = 0, slims = 0;
         int line = 0, column = 0;
         std::size_t object = 0;
         std::string_view kind;

@@ -30,6 +30,10 @@ FrameTransform frame_transform(const scene::Aabb& box);
 struct Frame {
     FrameTransform transform;  ///< world -> frame; the primitives and the camera are in the frame
     std::vector<Primitive> primitives;
+    /// The balls of the scene's SLIM surfaces (quadcast/render/slim_cpu_renderer.hpp): `bounded`
+    /// primitives (shapes::quadric with a SphereBound) whose shape.planes[0] is the clip plane in
+    /// local coordinates ((0, 0, 0, 1) when the ball has none).
+    std::vector<Primitive> slim_balls;
     Camera camera;
     Light light;
     RenderOptions options;
@@ -40,7 +44,8 @@ struct Frame {
 /// quadcast/camera.hpp for width x height, in the frame of `frame_transform(s.bounds())`. General
 /// quadrics are normalised in double (largest coefficient 1) before they become float, so their
 /// scale never matters. Throws std::invalid_argument for a shape the API rejects, prefixed by the
-/// scene location of the object it came from (`Scene::origins`) when there is one.
+/// scene location of the object it came from (`Scene::origins`) when there is one. SLIM balls go
+/// into `slim_balls`, their quadrics normalised like general quadrics.
 Frame build_frame(const scene::Scene& s, int width, int height);
 
 }  // namespace quadcast::render

@@ -11,7 +11,9 @@
 //     max_radius * diagonal), shrinks by 0.6 while it is not (down to the min_points radius),
 //     then two bisection steps (geometric mean) between the largest accepted and the smallest
 //     rejected radius. Accepted: the fit (quadcast/slim/fit.hpp) solved, oriented along every
-//     normal, and every point of the ball within E (gradient-line distance).
+//     normal, every point of the ball within E (gradient-line distance), and (support_check) its
+//     zero set in the ball near the points: sampled on 147 lines, every sample within 2 point
+//     spacings of an input point (no plane continued past an edge, no second sheet in the ball).
 //  4. Sharp features: when the single quadric is rejected, the normals are split by 2-means
 //     (seeded by the normal farthest from the mean and the one farthest from that, 10 rounds).
 //     If the cluster means are more than sharp_angle apart and each cluster holds at least
@@ -54,6 +56,10 @@ struct BuildOptions {
     double max_radius = 0.25;          ///< relative to the diagonal
     std::size_t min_points = 12;       ///< fewest points in a ball (>= 10)
     bool sharp_features = true;
+    /// Accept a fit only where its zero set in the ball (on its plane's side) stays within 2 point
+    /// spacings of the input points (sampled on 147 lines; src/slim/build.cpp `supported`): a
+    /// quadric continued past an edge or a second sheet would be drawn by the renderers.
+    bool support_check = true;
     double sharp_angle_degrees = 60;
     double sharp_min_fraction = 0.1;
     double sharp_max_misclassified = 0.02;  ///< fraction of the ball's points the plane may put on the wrong side

@@ -5,3 +5,4 @@
 #include "quadcast/slim/fit.hpp"
 #include "quadcast/slim/model.hpp"
 #include "quadcast/slim/points.hpp"
+#include "quadcast/slim/scene_loader.hpp"

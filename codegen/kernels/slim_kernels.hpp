@@ -1,0 +1,129 @@
+// codegen/kernels/slim_kernels.hpp -- the kernels of the GL SLIM renderer (quadcast/slim_blend.hpp)
+#pragma once
+
+#include <cmath>
+#include <string>
+
+#include "kernels/common.hpp"
+#include "kernels/render_kernels.hpp"
+#include "quadcast/raycast.hpp"
+#include "quadcast/slim_blend.hpp"
+
+namespace quadcast::codegen::kernels {
+
+/// The SLIM blending weight of t = |x - c| / r (`slim_weight`).
+struct SlimWeightKernel {
+    static constexpr const char* name = "slim_weight";
+    static constexpr const char* source = "quadcast::slim_weight (quadcast/slim_blend.hpp)";
+    static constexpr const char* summary = "SLIM blending weight: Gaussian core, quadratic tail, C1, 1 at the centre, 0 on the sphere";
+    template <class IO> static void run(IO& io) {
+        using T = typename IO::T;
+        io.out("w", slim_weight(io.scalar("t")));
+    }
+    static void generate(std::mt19937& rng, std::span<float> in) {
+        std::size_t p = 0;
+        put(in, p, uniform(rng, 0.0f, 1.0f) < 0.1f ? uniform(rng, 0.4999f, 0.5001f) : uniform(rng, 0.0f, 1.2f));
+    }
+};
+
+/// Per fragment of a SLIM ball (the visibility and the accumulation pass): the local ray of the
+/// pixel's world ray (`local_ray`), then `slim_fragment` (the quadric clipped to its ball and its
+/// plane): hit, window depth, the visibility pass's pushed depth, ray parameter, unit normal, weight.
+template <bool Cull>
+struct SlimFragmentKernel {
+    static constexpr const char* name = Cull ? "slim_fragment" : "slim_fragment_nocull";
+    static constexpr const char* source = "quadcast::local_ray (quadcast/raycast.hpp), quadcast::slim_fragment (quadcast/slim_blend.hpp)";
+    static constexpr const char* summary = "SLIM ball: a fragment's hit, depth, pushed visibility depth, ray parameter, unit normal and weight";
+    template <class IO> static void run(IO& io) {
+        using T = typename IO::T;
+        ClippedQuadric<T> p = primitive_inputs(io);
+        p.planes[0] = io.template vec<4>("plane");
+        const Vec3<T> origin = io.template vec<3>("origin");
+        const Vec3<T> dir = io.template vec<3>("dir");
+        const Vec3<T> vz_row = io.template vec<3>("vz_row");
+        const Vec4<T> pz = io.template vec<4>("pz");
+        const SlimFragment<T> f = slim_fragment<Cull>(p, local_ray(p, origin, dir), vz_row, pz);
+        io.out("hit", f.hit);
+        io.out("depth", f.depth);
+        io.out("visibility", f.visibility);
+        io.out("lambda", f.lambda);
+        io.out("normal", f.normal);
+        io.out("weight", f.weight);
+    }
+    static void generate(std::mt19937& rng, std::span<float> in) {
+        std::size_t p = 0;
+        put_primitive(rng, in, p);
+        // A plane through the ball (or none) in local coordinates.
+        if (uniform(rng, 0.0f, 1.0f) < 0.3f) put(in, p, vec4(0.0f, 0.0f, 0.0f, 1.0f));
+        else put(in, p, vec4(random_direction(rng), uniform(rng, -1.0f, 1.0f)));
+        const Vec3<float> o = random_point(rng, 50.0f) + random_direction(rng) * uniform(rng, 1.0f, 100.0f);
+        put(in, p, o);
+        put(in, p, normalize(random_point(rng, 50.0f) - o));
+        put(in, p, random_direction(rng));
+        put(in, p, vec4(-1.002f, -0.2002f, -1.0f, 0.0f));
+    }
+};
+
+/// The accumulation pass's outputs of one fragment (`slim_terms`): the products the additive
+/// blend sums into the three targets.
+struct SlimTermsKernel {
+    static constexpr const char* name = "slim_terms";
+    static constexpr const char* source = "quadcast::slim_terms (quadcast/slim_blend.hpp)";
+    static constexpr const char* summary = "SLIM accumulation: a fragment's weighted normal, weight, ray parameter, material and colour";
+    template <class IO> static void run(IO& io) {
+        using T = typename IO::T;
+        const T w = io.scalar("weight");
+        const Vec3<T> n = io.template vec<3>("normal");
+        const T lambda = io.scalar("lambda");
+        const Vec3<T> color = io.template vec<3>("color");
+        const Vec2<T> material = io.template vec<2>("material");
+        const SlimSums<T> s = slim_terms(w, n, lambda, color, material);
+        io.out("normal_weight", s.normal_weight);
+        io.out("lambda_material", s.lambda_material);
+        io.out("color_sum", s.color);
+    }
+    static void generate(std::mt19937& rng, std::span<float> in) {
+        std::size_t p = 0;
+        put(in, p, uniform(rng, 0.0f, 1.0f));
+        put(in, p, random_direction(rng));
+        put(in, p, uniform(rng, 0.1f, 100.0f));
+        put(in, p, vec3(uniform(rng, 0.0f, 1.0f), uniform(rng, 0.0f, 1.0f), uniform(rng, 0.0f, 1.0f)));
+        put(in, p, vec2(uniform(rng, 0.0f, 1.0f), uniform(rng, 1.0f, 128.0f)));
+    }
+};
+
+/// The shading pass's resolve of a SLIM pixel (`slim_resolve`): the accumulated sums divided by
+/// the weight; vz = dot(vz_row, dir) of the pixel's ray.
+struct SlimResolveKernel {
+    static constexpr const char* name = "slim_resolve";
+    static constexpr const char* source = "quadcast::slim_resolve (quadcast/slim_blend.hpp)";
+    static constexpr const char* summary = "SLIM pixel: blended unit normal, ray parameter, window depth, colour and material from the weighted sums";
+    template <class IO> static void run(IO& io) {
+        using T = typename IO::T;
+        const Vec4<T> nw = io.template vec<4>("normal_weight");
+        const Vec4<T> lm = io.template vec<4>("lambda_material");
+        const Vec3<T> color = io.template vec<3>("color_sum");
+        const Vec3<T> dir = io.template vec<3>("dir");
+        const Vec3<T> vz_row = io.template vec<3>("vz_row");
+        const Vec4<T> pz = io.template vec<4>("pz");
+        const SlimResolved<T> r = slim_resolve(nw, lm, color, dot(vz_row, dir), pz);
+        io.out("covered", r.covered);
+        io.out("normal", r.normal);
+        io.out("lambda", r.lambda);
+        io.out("depth", r.depth);
+        io.out("color", r.color);
+        io.out("material", r.material);
+    }
+    static void generate(std::mt19937& rng, std::span<float> in) {
+        std::size_t p = 0;
+        const float w = uniform(rng, 0.0f, 1.0f) < 0.05f ? 0.0f : uniform(rng, 0.001f, 6.0f);
+        put(in, p, vec4(random_direction(rng) * w, w));
+        put(in, p, vec4(uniform(rng, 0.5f, 50.0f) * w, uniform(rng, 0.0f, 1.0f) * w, uniform(rng, 1.0f, 128.0f) * w, 0.0f));
+        put(in, p, vec3(uniform(rng, 0.0f, 1.0f), uniform(rng, 0.0f, 1.0f), uniform(rng, 0.0f, 1.0f)) * w);
+        put(in, p, random_direction(rng));
+        put(in, p, random_direction(rng));
+        put(in, p, vec4(-1.002f, -0.2002f, -1.0f, 0.0f));
+    }
+};
+
+}  // namespace quadcast::codegen::kernels

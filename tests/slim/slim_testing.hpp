@@ -1,0 +1,94 @@
+// tests/slim/slim_testing.hpp -- test helpers of the slim tests: ellipsoid samples and the exact distance to an ellipsoid
+#pragma once
+
+#include <cmath>
+#include <random>
+
+#include "quadcast/slim/points.hpp"
+
+namespace quadcast::slim::testing {
+
+using V3L = Vec<long double, 3>;
+
+inline V3L to_long(const Vec3d& v) { return vec3((long double)v[0], (long double)v[1], (long double)v[2]); }
+
+/// Uniform points on the ellipsoid with semi-axes a around c (normals outward), `n` of them.
+inline OrientedPoints ellipsoid_points(const Vec3d& c, const Vec3d& a, int n, std::uint64_t seed) {
+    OrientedPoints p;
+    p.file = "ellipsoid";
+    std::mt19937_64 rng(seed);
+    std::normal_distribution<double> g;
+    for (int i = 0; i < n; ++i) {
+        Vec3d d = normalize(vec3(g(rng), g(rng), g(rng)));
+        const Vec3d x = vec3(a[0] * d[0], a[1] * d[1], a[2] * d[2]);
+        p.positions.push_back(c + x);
+        p.normals.push_back(normalize(vec3(x[0] / (a[0] * a[0]), x[1] / (a[1] * a[1]), x[2] / (a[2] * a[2]))));
+    }
+    return p;
+}
+
+/// Euclidean distance from y to the ellipsoid sum (x_i / a_i)^2 = 1 (centred), in long double:
+/// the closest point x_i = a_i^2 y_i / (t + a_i^2) with t the root of
+/// F(t) = sum (a_i y_i / (t + a_i^2))^2 - 1 on (-a_min^2, inf), found by bisection (Eberly's bracket).
+inline long double ellipsoid_distance(const V3L& y0, const Vec3d& a) {
+    V3L y;
+    for (int i = 0; i < 3; ++i) y[i] = std::fabs(y0[i]) + 1e-30L;
+    int m = 0;
+    for (int i = 1; i < 3; ++i)
+        if (a[i] < a[m]) m = i;
+    const long double am2 = (long double)a[m] * a[m];
+    long double s = 0;
+    for (int i = 0; i < 3; ++i) s += (long double)a[i] * a[i] * y[i] * y[i];
+    long double lo = -am2 + (long double)a[m] * y[m], hi = -am2 + std::sqrt(s);
+    const auto F = [&](long double t) {
+        long double f = -1;
+        for (int i = 0; i < 3; ++i) {
+            const long double q = (long double)a[i] * y[i] / (t + (long double)a[i] * a[i]);
+            f += q * q;
+        }
+        return f;
+    };
+    for (int it = 0; it < 200; ++it) {
+        const long double mid = 0.5L * (lo + hi);
+        (F(mid) > 0 ? lo : hi) = mid;
+    }
+    const long double t = 0.5L * (lo + hi);
+    long double d2 = 0;
+    for (int i = 0; i < 3; ++i) {
+        const long double x = (long double)a[i] * a[i] * y[i] / (t + (long double)a[i] * a[i]);
+        d2 += (x - y[i]) * (x - y[i]);
+    }
+    return std::sqrt(d2);
+}
+
+/// Points on the torus around the z axis (tube radius r around the circle of radius R), uniform
+/// in area (rejection on the tube angle), outward normals, `n` of them.
+inline OrientedPoints torus_points(double R, double r, int n, std::uint64_t seed) {
+    OrientedPoints p;
+    p.file = "torus";
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    const double two_pi = 6.283185307179586;
+    while (static_cast<int>(p.size()) < n) {
+        const double a = two_pi * u(rng), b = two_pi * u(rng);
+        if (u(rng) * (R + r) > R + r * std::cos(b)) continue;  // area element (R + r cos b)
+        const Vec3d nrm = vec3(std::cos(b) * std::cos(a), std::cos(b) * std::sin(a), std::sin(b));
+        p.positions.push_back(vec3(R * std::cos(a), R * std::sin(a), 0.0) + nrm * r);
+        p.normals.push_back(nrm);
+    }
+    return p;
+}
+
+/// Distance from y to that torus, and its outward normal at the closest point (long double).
+inline long double torus_distance(const V3L& y, long double R, long double r, V3L* normal = nullptr) {
+    const long double q = std::sqrt(y[0] * y[0] + y[1] * y[1]);
+    const long double dx = q - R, dz = y[2];
+    const long double d = std::sqrt(dx * dx + dz * dz);
+    if (normal) {
+        const long double cx = q > 0 ? y[0] / q : 1.0L, cy = q > 0 ? y[1] / q : 0.0L;
+        *normal = vec3(dx / d * cx, dx / d * cy, dz / d);
+    }
+    return std::fabs(d - r);
+}
+
+}  // namespace quadcast::slim::testing
