@@ -86,12 +86,13 @@ test-clang: deps
 	cd $(CLANG_BUILD) && ctest --output-on-failure -j $(JOBS)
 
 DEMO_SCENES := 1tii_balls_and_sticks 1tii_space_filling il2_balls_and_sticks il2_space_filling quads_cube primitives marschner_lobb_qss reflective \
-  skull_s31 liver_qss bunny_sdf_s31
+  skull_s31 liver_qss bunny_sdf_s31 slim_bunny slim_kitten slim_fandisk slim_dragon
 
 demo: build demo-deps data
 	@mkdir -p demo-out
 	$(BUILD)/tools/quadcast verify
 	$(BUILD)/tools/quadcast bench stability
+	$(BUILD)/tools/quadcast slim-build $(DATA_DIR)/ChineseDragon-10kv.off -o $(DATA_DIR)/dragon_2e-3.slim --error 2e-3 --samples 100000
 	@for s in $(DEMO_SCENES); do \
 	  $(BUILD)/tools/quadcast render examples/demo/$$s.json -o demo-out/$$s.png --width 1024 --height 768 --frames 3 || exit 1; \
 	done

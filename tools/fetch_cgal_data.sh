@@ -1,13 +1,14 @@
 #!/bin/sh
 # tools/fetch_cgal_data.sh DIR -- puts CGAL's sample data used by the spline demos into DIR:
 #   skull_2.9.inr (64^3 float), liver.inr.gz (438x353x165 uint8), armadillo.off, bunny00.off;
-#   and for the SLIM builder: kitten.xyz, sphere_20k_normal.xyz (oriented points), fandisk.off.
+#   and for the SLIM builder: kitten.xyz, sphere_20k_normal.xyz (oriented points), fandisk.off,
+#   ChineseDragon-10kv.off.
 # They come from data.tar.gz in the Debian package libcgal-demo, fetched with `apt-get download`
 # (no installation, no dependencies) and unpacked with `dpkg -x`. Does nothing when all the
 # files are already there. Needs apt-get, dpkg-deb and tar (Debian/Ubuntu).
 set -eu
 dir=${1:?usage: fetch_cgal_data.sh DIR}
-files="skull_2.9.inr liver.inr.gz armadillo.off bunny00.off kitten.xyz sphere_20k_normal.xyz fandisk.off"
+files="skull_2.9.inr liver.inr.gz armadillo.off bunny00.off kitten.xyz sphere_20k_normal.xyz fandisk.off ChineseDragon-10kv.off"
 
 missing=""
 for f in $files; do [ -s "$dir/$f" ] || missing="$missing $f"; done
