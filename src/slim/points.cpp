@@ -391,7 +391,7 @@ OrientedPoints sample_mesh(const scene::OffMesh& mesh, const ReadOptions& option
             cumulative.push_back(total);
         }
     if (tris.empty()) fail(mesh.file, 0, "", "the mesh has no face with a nonzero area to sample");
-    const std::size_t n = options.mesh_samples ? options.mesh_samples : std::max<std::size_t>(mesh.vertices.size(), 10000);
+    const std::size_t n = options.mesh_samples ? options.mesh_samples : std::max<std::size_t>(mesh.vertices.size(), 100000);
     // Draw a triangle by area, then a uniform point in it (Osada et al. 2002, eq. 1).
     std::mt19937_64 rng(options.seed);
     pts.positions.reserve(n);

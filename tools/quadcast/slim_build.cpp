@@ -25,7 +25,7 @@ void add_slim_build(CLI::App& app) {
     cmd->add_option("input", opt->input, "oriented points (.xyz/.pwn 'x y z nx ny nz', .ply with nx ny nz) or an .off mesh (sampled)")->required();
     cmd->add_option("-o,--output", opt->output, "model file to write (quadcast-slim text format)")->required();
     cmd->add_option("--error", opt->error, "maximum fit distance, relative to the bounding-box diagonal (> 0), e.g. 1e-3")->required();
-    cmd->add_option("--samples", opt->read.mesh_samples, "mesh input: oriented samples to draw (default: the vertex count, at least 10000)");
+    cmd->add_option("--samples", opt->read.mesh_samples, "mesh input: oriented samples to draw (default: the vertex count, at least 100000)");
     cmd->add_option("--seed", opt->build.seed, "seed of the seed-point order (and of the mesh sampler)");
     cmd->add_option("--threads", opt->build.threads, "worker threads (0: all; the model is the same for any count)");
     cmd->add_option("--cover", opt->build.cover_fraction, "points within this fraction of a ball's radius are covered by it")->check(CLI::Range(0.05, 1.0));

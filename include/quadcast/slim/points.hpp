@@ -53,7 +53,7 @@ struct ReadOptions {
     /// Fewer points than this is a ParseError naming the file.
     std::size_t min_points = min_fit_points;
     /// .off only: oriented samples drawn from the faces (0: as many as the mesh has vertices,
-    /// at least 10000).
+    /// at least 100000).
     std::size_t mesh_samples = 0;
     /// .off only: seed of the sampler (same seed, same samples on every platform).
     std::uint64_t seed = 1;
