@@ -61,6 +61,34 @@ std::array<float, 12> near_corners(const render::Camera& cam) {
     return r;
 }
 
+void set_camera_uniforms(const Api& gl, const Program& p, const render::Camera& cam, int width, int height) {
+    float view[16], proj[16], rot_inv[9];
+    for (int j = 0; j < 4; ++j)
+        for (int i = 0; i < 4; ++i) { view[j * 4 + i] = cam.view[j][i]; proj[j * 4 + i] = cam.projection[j][i]; }
+    // The inverse of a rotation is its transpose: column j of R^T is row j of R.
+    for (int j = 0; j < 3; ++j)
+        for (int i = 0; i < 3; ++i) rot_inv[j * 3 + i] = cam.view[i][j];
+    const float vz_row[3] = {cam.view[0][2], cam.view[1][2], cam.view[2][2]};
+    const float pz[4] = {cam.projection[2][2], cam.projection[3][2], cam.projection[2][3], cam.projection[3][3]};
+    const auto near = near_corners(cam);
+    gl.UniformMatrix4fv(p.uniform_location("qc_view"), 1, GL_FALSE, view);
+    gl.UniformMatrix4fv(p.uniform_location("qc_projection"), 1, GL_FALSE, proj);
+    gl.UniformMatrix3fv(p.uniform_location("qc_view_rot_inv"), 1, GL_FALSE, rot_inv);
+    gl.Uniform3fv(p.uniform_location("qc_eye"), 1, cam.eye.c);
+    const Mat4<float> vp = render::view_projection(cam);
+    gl.UniformMatrix4fv(p.uniform_location("qc_view_projection"), 1, GL_FALSE, &vp[0][0]);
+    const render::WindowRayTerms rays = render::window_ray_terms(cam, width, height);
+    gl.Uniform3fv(p.uniform_location("qc_ray_base"), 1, rays.base.c);
+    gl.Uniform3fv(p.uniform_location("qc_ray_dx"), 1, rays.dx.c);
+    gl.Uniform3fv(p.uniform_location("qc_ray_dy"), 1, rays.dy.c);
+    gl.Uniform3fv(p.uniform_location("qc_ray_fixed"), 1, rays.fixed.c);
+    gl.Uniform2f(p.uniform_location("qc_viewport"), static_cast<float>(width), static_cast<float>(height));
+    gl.Uniform3fv(p.uniform_location("qc_near_corners"), 4, near.data());
+    gl.Uniform3fv(p.uniform_location("qc_vz_row"), 1, vz_row);
+    gl.Uniform1f(p.uniform_location("qc_vz_t"), cam.view[3][2]);
+    gl.Uniform4fv(p.uniform_location("qc_pz"), 1, pz);
+}
+
 }  // namespace detail
 
 class QuadricRenderer::Impl {
@@ -328,7 +356,6 @@ public:
             const bool early = cull_pass && early_discard_ && variant != render::Variant::planes && variant != render::Variant::sphere;
             gl.Uniform1i(prog.uniform_location("qc_early"), early ? 1 : 0);
             gl.Uniform1i(prog.uniform_location("qc_depth_width"), viewport[2]);
-            gl.Uniform1f(prog.uniform_location("qc_vz_t"), cam.view[3][2]);
             if (cull_pass)
                 gl.DrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT, reinterpret_cast<const void*>(static_cast<std::uintptr_t>(20 * v)));
             else
@@ -392,7 +419,6 @@ private:
         auto common = [&](const Program& p) {
             gl.UseProgram(p.id());
             set_uniforms(p, cam, render::Light{}, render::RenderOptions{}, width, height);
-            gl.Uniform1f(p.uniform_location("qc_vz_t"), cam.view[3][2]);
         };
         auto groups = [](std::uint32_t n, std::uint32_t size) { return (n + size - 1) / size; };
         // 1. Occluders (the variants that have them).
@@ -602,30 +628,7 @@ private:
     void set_uniforms(const Program& p, const render::Camera& cam, const render::Light& light, const render::RenderOptions& opt, int width,
                       int height) const {
         const Api& gl = *api_;
-        float view[16], proj[16], rot_inv[9];
-        for (int j = 0; j < 4; ++j)
-            for (int i = 0; i < 4; ++i) { view[j * 4 + i] = cam.view[j][i]; proj[j * 4 + i] = cam.projection[j][i]; }
-        // The inverse of a rotation is its transpose: column j of R^T is row j of R.
-        for (int j = 0; j < 3; ++j)
-            for (int i = 0; i < 3; ++i) rot_inv[j * 3 + i] = cam.view[i][j];
-        const float vz_row[3] = {cam.view[0][2], cam.view[1][2], cam.view[2][2]};
-        const float pz[4] = {cam.projection[2][2], cam.projection[3][2], cam.projection[2][3], cam.projection[3][3]};
-        const auto near = near_corners(cam);
-        gl.UniformMatrix4fv(p.uniform_location("qc_view"), 1, GL_FALSE, view);
-        gl.UniformMatrix4fv(p.uniform_location("qc_projection"), 1, GL_FALSE, proj);
-        gl.UniformMatrix3fv(p.uniform_location("qc_view_rot_inv"), 1, GL_FALSE, rot_inv);
-        gl.Uniform3fv(p.uniform_location("qc_eye"), 1, cam.eye.c);
-        const Mat4<float> vp = render::view_projection(cam);
-        gl.UniformMatrix4fv(p.uniform_location("qc_view_projection"), 1, GL_FALSE, &vp[0][0]);
-        const render::WindowRayTerms rays = render::window_ray_terms(cam, width, height);
-        gl.Uniform3fv(p.uniform_location("qc_ray_base"), 1, rays.base.c);
-        gl.Uniform3fv(p.uniform_location("qc_ray_dx"), 1, rays.dx.c);
-        gl.Uniform3fv(p.uniform_location("qc_ray_dy"), 1, rays.dy.c);
-        gl.Uniform3fv(p.uniform_location("qc_ray_fixed"), 1, rays.fixed.c);
-        gl.Uniform2f(p.uniform_location("qc_viewport"), static_cast<float>(width), static_cast<float>(height));
-        gl.Uniform3fv(p.uniform_location("qc_near_corners"), 4, near.data());
-        gl.Uniform3fv(p.uniform_location("qc_vz_row"), 1, vz_row);
-        gl.Uniform4fv(p.uniform_location("qc_pz"), 1, pz);
+        detail::set_camera_uniforms(gl, p, cam, width, height);
         gl.Uniform3fv(p.uniform_location("qc_light_dir"), 1, light.direction.c);
         gl.Uniform3fv(p.uniform_location("qc_light_color"), 1, light.color.c);
         gl.Uniform4fv(p.uniform_location("qc_material"), 1, opt.material.c);
@@ -644,7 +647,6 @@ private:
         return cast<float>(host_inverse(cast<double>(cam.projection) * cast<double>(cam.view)));
     }
 
-    static std::array<float, 12> near_corners(const render::Camera& cam) { return detail::near_corners(cam); }
 
     void ensure_fbo(int w, int h) {
         if (fbo_ != 0 && w == width_ && h == height_) return;

@@ -135,7 +135,7 @@ public:
         gl.DepthFunc(GL_ALWAYS);
         const Program& res = programs_.get(render::SlimKey{render::SlimPass::resolve, true, cam.orthographic});
         gl.UseProgram(res.id());
-        set_ray_uniforms(res, cam, viewport[2], viewport[3]);
+        detail::set_camera_uniforms(gl, res, cam, viewport[2], viewport[3]);
         for (int i = 0; i < 3; ++i) gl.BindTextureUnit(static_cast<GLuint>(i), atex_[i]);
         gl.DrawArrays(GL_TRIANGLES, 0, 3);
         for (int i = 0; i < 3; ++i) gl.BindTextureUnit(static_cast<GLuint>(i), 0);
@@ -170,42 +170,17 @@ private:
         gl.UseProgram(0);
     }
 
-    /// The frame's pixel-ray terms (`window_ray_terms`) and depth terms of the fragment stages.
-    void set_ray_uniforms(const Program& p, const render::Camera& cam, int width, int height) const {
-        const Api& gl = *api_;
-        const render::WindowRayTerms rays = render::window_ray_terms(cam, width, height);
-        gl.Uniform3fv(p.uniform_location("qc_ray_base"), 1, rays.base.c);
-        gl.Uniform3fv(p.uniform_location("qc_ray_dx"), 1, rays.dx.c);
-        gl.Uniform3fv(p.uniform_location("qc_ray_dy"), 1, rays.dy.c);
-        gl.Uniform3fv(p.uniform_location("qc_ray_fixed"), 1, rays.fixed.c);
-        const float vz_row[3] = {cam.view[0][2], cam.view[1][2], cam.view[2][2]};
-        const float pz[4] = {cam.projection[2][2], cam.projection[3][2], cam.projection[2][3], cam.projection[3][3]};
-        gl.Uniform3fv(p.uniform_location("qc_vz_row"), 1, vz_row);
-        gl.Uniform4fv(p.uniform_location("qc_pz"), 1, pz);
-    }
-
     /// Every ball's bounding quad with program `p`: the quadric renderer's vertex-stage uniforms
     /// (sphere quads: qc_bound 0; per-quadric culling for perspective cameras), then the ray terms.
     void draw_balls(const Program& p, const render::Camera& cam, const GLint* viewport, bool cull) {
         const Api& gl = *api_;
         gl.UseProgram(p.id());
-        float view[16], proj[16];
-        for (int j = 0; j < 4; ++j)
-            for (int i = 0; i < 4; ++i) { view[j * 4 + i] = cam.view[j][i]; proj[j * 4 + i] = cam.projection[j][i]; }
-        gl.UniformMatrix4fv(p.uniform_location("qc_view"), 1, GL_FALSE, view);
-        gl.UniformMatrix4fv(p.uniform_location("qc_projection"), 1, GL_FALSE, proj);
-        const Mat4<float> vp = render::view_projection(cam);
-        gl.UniformMatrix4fv(p.uniform_location("qc_view_projection"), 1, GL_FALSE, &vp[0][0]);
-        const auto near = detail::near_corners(cam);
-        gl.Uniform3fv(p.uniform_location("qc_near_corners"), 4, near.data());
-        gl.Uniform2f(p.uniform_location("qc_viewport"), static_cast<float>(viewport[2]), static_cast<float>(viewport[3]));
-        gl.Uniform3fv(p.uniform_location("qc_eye"), 1, cam.eye.c);
+        detail::set_camera_uniforms(gl, p, cam, viewport[2], viewport[3]);
         gl.Uniform1i(p.uniform_location("qc_bound"), 0);
         gl.Uniform1i(p.uniform_location("qc_cull"), cull && !cam.orthographic ? 1 : 0);
         gl.Uniform1ui(p.uniform_location("qc_first"), 0);
         gl.Uniform1i(p.uniform_location("qc_caps"), 0);
         gl.Uniform1i(p.uniform_location("qc_indirect"), 0);
-        set_ray_uniforms(p, cam, viewport[2], viewport[3]);
         gl.DrawElements(GL_TRIANGLES, static_cast<GLsizei>(6 * count_), GL_UNSIGNED_INT, nullptr);
     }
 

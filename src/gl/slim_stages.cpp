@@ -103,20 +103,13 @@ Stage resolve_shader(bool ortho) {
     return s;
 }
 
-/// The full-screen triangle (positions from gl_VertexID; no numbers).
-const char* fullscreen_vertex =
-    "void main()\n{\n"
-    "    vec2 p = vec2(float((gl_VertexID & 1) * 4 - 1), float((gl_VertexID & 2) * 2 - 1));\n"
-    "    gl_Position = vec4(p, 0.0, 1.0);\n"
-    "}\n";
-
 }  // namespace
 
 std::vector<StageText> program_stages(const render::SlimKey& k) {
     const std::string proj = k.ortho ? "ortho" : "perspective";
     if (k.pass == render::SlimPass::resolve) {
         Stage v;
-        v.text = fullscreen_vertex;
+        v.text = detail::fullscreen_vertex;
         return {stage_text(StageText::Kind::vertex, "qc_fullscreen.vert", v, "SLIM resolve: full-screen triangle"),
                 stage_text(StageText::Kind::fragment, "qc_slim_resolve_" + proj + ".frag", resolve_shader(k.ortho),
                            "SLIM renderer: the weighted sums divided into the geometry buffer, " + proj + " camera")};

@@ -58,4 +58,8 @@ inline StageText stage_text(StageText::Kind kind, const std::string& name, const
 /// geometry and per-quadric culling of one record; the SLIM passes draw their `bounded` balls with it.
 Stage quadric_vertex_stage(bool ortho);
 
+/// The full-screen triangle of the deferred and resolve passes (positions from gl_VertexID; no
+/// numbers; src/gl/stages.cpp).
+extern const char* const fullscreen_vertex;
+
 }  // namespace quadcast::gl::detail

@@ -266,12 +266,6 @@ Stage fragment_shader(const render::QuadricKey& k) {
     return s;
 }
 
-/// The full-screen triangle of the deferred pass (positions from gl_VertexID; no numbers).
-const char* fullscreen_vertex =
-    "void main()\n{\n"
-    "    vec2 p = vec2(float((gl_VertexID & 1) * 4 - 1), float((gl_VertexID & 2) * 2 - 1));\n"
-    "    gl_Position = vec4(p, 0.0, 1.0);\n"
-    "}\n";
 
 /// The deferred pass (Sigg et al. 2006, sec. 4): per pixel, Blinn-Phong from the geometry buffer
 /// (`shade_blinn_phong` with the same arguments as the forward pass: bit-identical colour), the
@@ -656,7 +650,7 @@ std::vector<StageText> program_stages(const render::QuadricKey& key) {
 
 std::vector<StageText> program_stages(const render::DeferredKey& k) {
     Stage v;
-    v.text = fullscreen_vertex;
+    v.text = detail::fullscreen_vertex;
     const std::string dname = std::string("qc_deferred") + (k.shadows ? "_shadows" : "") + (k.silhouettes ? "_silhouettes" : "") + (k.environment ? "_environment" : "") + ".frag";
     return {stage_text(StageText::Kind::vertex, "qc_fullscreen.vert", v, "deferred shading: full-screen triangle"),
             stage_text(StageText::Kind::fragment, dname, deferred_shader(k.silhouettes, k.shadows, k.environment),
@@ -669,5 +663,11 @@ std::vector<StageText> program_stages(const render::DeferredKey& k) {
 namespace quadcast::gl::detail {
 
 Stage quadric_vertex_stage(bool ortho) { return vertex_shader(ortho); }
+
+const char* const fullscreen_vertex =
+    "void main()\n{\n"
+    "    vec2 p = vec2(float((gl_VertexID & 1) * 4 - 1), float((gl_VertexID & 2) * 2 - 1));\n"
+    "    gl_Position = vec4(p, 0.0, 1.0);\n"
+    "}\n";
 
 }  // namespace quadcast::gl::detail
