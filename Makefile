@@ -6,8 +6,10 @@ DEB_PACKAGES := cmake g++ clang make pkg-config libeigen3-dev libglm-dev glslang
   doctest-dev libosmesa6-dev libcli11-dev nlohmann-json3-dev libtbb-dev libmpfrc++-dev libmpfr-dev \
   libgmp-dev libbenchmark-dev libpng-dev nlohmann-json3-dev pymol-data zlib1g-dev libclang-rt-14-dev
 DEMO_PACKAGES :=
+# `make bench-vtk` only: VTK 9 (the peer renderer), NumPy for its arrays, Xvfb for its display.
+BENCH_VTK_PACKAGES := python3-vtk9 python3-numpy xvfb xauth
 
-.PHONY: all deps demo-deps configure build test demo regenerate clean data install fuzz fuzz-build test-sanitize test-clang
+.PHONY: bench-vtk all deps demo-deps configure build test demo regenerate clean data install fuzz fuzz-build test-sanitize test-clang
 
 all: build
 
@@ -18,6 +20,19 @@ deps:
 	  SUDO=$$( [ "$$(id -u)" = 0 ] || echo sudo ); \
 	  $$SUDO apt-get update -qq && DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y -qq --no-install-recommends $$missing; \
 	fi
+
+bench-vtk-deps:
+	@missing=$$(for p in $(BENCH_VTK_PACKAGES); do dpkg-query -W -f='$${Status}\n' $$p 2>/dev/null | grep -q '^install ok installed' || echo $$p; done); \
+	if [ -n "$$missing" ]; then \
+	  SUDO=$$( [ "$$(id -u)" = 0 ] || echo sudo ); \
+	  $$SUDO apt-get update -qq && DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y -qq --no-install-recommends $$missing; \
+	fi
+
+# quadcast against VTK's impostor mappers on the scenes of `bench spheres` / `bench sticks`, in one
+# run (tools/bench_vtk.py; BENCH_VTK_ARGS e.g. "--cases spheres:1000000 --rounds 7").
+BENCH_VTK_ARGS ?=
+bench-vtk: build bench-vtk-deps
+	/usr/bin/python3 tools/bench_vtk.py --quadcast $(BUILD)/tools/quadcast $(BENCH_VTK_ARGS)
 
 demo-deps:
 	@missing=$$(for p in $(DEMO_PACKAGES); do dpkg-query -W -f='$${Status}\n' $$p 2>/dev/null | grep -q '^install ok installed' || echo $$p; done); \

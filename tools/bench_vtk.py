@@ -1,0 +1,256 @@
+#!/usr/bin/python3
+"""tools/bench_vtk.py -- quadcast against VTK 9 on the same scenes, measured in one run.
+
+    make bench-vtk                      # installs python3-vtk9, python3-numpy, xvfb; runs this
+    tools/bench_vtk.py --quadcast build/tools/quadcast [--cases spheres:10000,sticks:50000]
+                       [--rounds 5] [--frames 5] [--width 1024 --height 768] [--out DIR]
+
+The scene is that of `quadcast bench spheres`: N random spheres in the unit cube of radius
+0.3 N^(-1/3) (centres rounded to 5 decimals, as tools/sphere_scene.sh writes them); a 30 degree perspective camera from (0.5, 0.5, 3) looking at (0.5, 0.5, 0.5); one
+grey colour; the default headlight. Each scene is written once as a quadcast JSON scene and once
+as a NumPy file for VTK (VTK reads binary arrays, so its loading is not slowed by JSON).
+
+quadcast: `quadcast render SCENE.json --frames F` (its default options: back-face culling and the
+occlusion cull pass on), the median of F frames after a warm-up, each frame ending in glFinish.
+VTK: vtkOpenGLSphereMapper (VTK's sphere impostor mapper, the one vtkMoleculeMapper uses) in an offscreen vtkRenderWindow under Xvfb, the median of F
+Render() + WaitForCompletion() (glFinish) after a warm-up frame. Both run on the same Mesa
+llvmpipe. Rounds alternate the order (quadcast, VTK; VTK, quadcast; ...) so that load from other
+processes hits both alike; printed are the medians over the rounds and the ratio of the medians
+(> 1: quadcast faster), with the range of the per-round ratios.
+
+Time to first image: the wall time of a whole process that reads the scene, draws one frame and
+writes a PNG (quadcast render without --frames; the VTK worker in --first mode, its Python and VTK
+start-up included), and its peak resident memory (getrusage of the child).
+
+Sanity check beside the times: the share of pixels each PNG covers (not the background); the two
+renderers draw the same geometry, so the shares agree to the silhouettes' rounding.
+"""
+import argparse
+import json
+import os
+import re
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+
+def scene_data(kind, n, seed):
+    import numpy as np
+    rng = np.random.default_rng(seed)
+    if kind == "spheres":
+        c = rng.random((n, 3))
+        return {"centers": np.round(c, 5), "radius": 0.3 * n ** (-1.0 / 3.0)}
+    raise SystemExit(f"bench_vtk.py: unknown case kind '{kind}' (spheres; sticks are not measured: VTK's vtkOpenGLStickMapper drew nothing from Python 3 here)")
+
+
+def write_quadcast_scene(path, kind, data):
+    head = '{"camera": {"eye": [0.5, 0.5, 3], "target": [0.5, 0.5, 0.5], "fov_y": 30},\n "objects": [\n'
+    with open(path, "w") as f:
+        f.write(head)
+        r = "%.6g" % data["radius"]
+        rows = ['{"sphere":{"center":[%.5f,%.5f,%.5f],"radius":%s}}' % (x, y, z, r) for x, y, z in data["centers"]]
+        f.write(",\n".join(rows))
+        f.write("\n]}\n")
+
+
+def vtk_worker(args):
+    """One VTK process: load the arrays, draw, time frames or the first image."""
+    t_start = time.perf_counter()
+    import numpy as np
+    import vtk
+    from vtkmodules.util import numpy_support as ns
+    z = np.load(args.vtk_worker)
+    kind = str(z["kind"])
+    pd = vtk.vtkPolyData()
+    pts = vtk.vtkPoints()
+    if kind == "spheres":
+        centers = np.ascontiguousarray(z["centers"], dtype=np.float32)
+        pts.SetData(ns.numpy_to_vtk(centers, deep=True))
+        mapper = vtk.vtkOpenGLSphereMapper()
+        mapper.SetRadius(float(z["radius"]))
+    pd.SetPoints(pts)
+    # one vertex cell per point (the mappers draw the points of the vertex cells)
+    n = pts.GetNumberOfPoints()
+    conn = np.empty(2 * n, dtype=np.int64)
+    conn[0::2] = 1
+    conn[1::2] = np.arange(n)
+    verts = vtk.vtkCellArray()
+    verts.SetCells(n, ns.numpy_to_vtkIdTypeArray(conn, deep=True))
+    pd.SetVerts(verts)
+    mapper.SetInputData(pd)
+    mapper.ScalarVisibilityOff()
+    actor = vtk.vtkActor()
+    actor.SetMapper(mapper)
+    actor.GetProperty().SetColor(0.8, 0.8, 0.8)
+    ren = vtk.vtkRenderer()
+    ren.AddActor(actor)
+    ren.SetBackground(1.0, 1.0, 1.0)
+    cam = ren.GetActiveCamera()
+    cam.SetPosition(0.5, 0.5, 3.0)
+    cam.SetFocalPoint(0.5, 0.5, 0.5)
+    cam.SetViewUp(0.0, 1.0, 0.0)
+    cam.SetViewAngle(30.0)
+    win = vtk.vtkRenderWindow()
+    win.SetOffScreenRendering(1)
+    win.SetSize(args.width, args.height)
+    win.AddRenderer(ren)
+    ren.ResetCameraClippingRange()
+    win.Render()
+    win.WaitForCompletion()
+    if args.png:
+        w2i = vtk.vtkWindowToImageFilter()
+        w2i.SetInput(win)
+        w2i.ReadFrontBufferOff()
+        w2i.Update()
+        wr = vtk.vtkPNGWriter()
+        wr.SetFileName(args.png)
+        wr.SetInputConnection(w2i.GetOutputPort())
+        wr.Write()
+    if args.frames == 0:
+        print("first %.1f ms" % ((time.perf_counter() - t_start) * 1e3))
+        return
+    ms = []
+    for _ in range(args.frames):
+        t0 = time.perf_counter()
+        win.Render()
+        win.WaitForCompletion()
+        ms.append((time.perf_counter() - t0) * 1e3)
+    print("median %.3f ms" % statistics.median(ms))
+    print("renderer %s" % win.ReportCapabilities().split("OpenGL renderer string:")[-1].split("\n")[0].strip())
+
+
+def run(cmd, env):
+    """Runs a child to completion and returns its standard output."""
+    p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
+    if p.returncode != 0:
+        sys.stderr.write(p.stderr)
+        raise SystemExit(f"bench_vtk.py: {' '.join(cmd)} failed with status {p.returncode}")
+    return p.stdout
+
+
+def first_image(cmd, env):
+    """Wall time and peak RSS (MB) of one whole process, measured by a fresh helper process."""
+    probe = ("import resource,subprocess,sys,time;t=time.perf_counter();"
+             "p=subprocess.run(sys.argv[1:],stdout=subprocess.DEVNULL,stderr=subprocess.PIPE);"
+             "w=time.perf_counter()-t;"
+             "sys.stderr.write(p.stderr.decode()) if p.returncode else None;"
+             "print(p.returncode,w,resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss/1024.0)")
+    out = subprocess.run([sys.executable, "-c", probe] + cmd, stdout=subprocess.PIPE, text=True, env=env).stdout.split()
+    if not out or out[0] != "0":
+        raise SystemExit(f"bench_vtk.py: {' '.join(cmd)} failed")
+    return float(out[1]), float(out[2])
+
+
+def covered_share(png):
+    import vtk
+    from vtkmodules.util import numpy_support as ns
+    r = vtk.vtkPNGReader()
+    r.SetFileName(png)
+    r.Update()
+    img = r.GetOutput()
+    a = ns.vtk_to_numpy(img.GetPointData().GetScalars())
+    rgb = a[:, :3].astype(int)
+    return float(((rgb != 255).any(axis=1)).mean())
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--quadcast", default=os.path.join(HERE, "..", "build", "tools", "quadcast"))
+    ap.add_argument("--cases", default="spheres:10000,spheres:100000,spheres:1000000")
+    ap.add_argument("--rounds", type=int, default=5)
+    ap.add_argument("--frames", type=int, default=5)
+    ap.add_argument("--width", type=int, default=1024)
+    ap.add_argument("--height", type=int, default=768)
+    ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--out", default=None, help="keep scenes and PNGs here (default: a temporary directory)")
+    ap.add_argument("--vtk-worker", help=argparse.SUPPRESS)
+    ap.add_argument("--png", help=argparse.SUPPRESS)
+    args = ap.parse_args()
+    if args.vtk_worker:
+        return vtk_worker(args)
+
+    if not os.path.exists(args.quadcast):
+        raise SystemExit(f"bench_vtk.py: no quadcast program at {args.quadcast} (make build, or --quadcast PATH)")
+    import numpy as np
+    out = args.out or tempfile.mkdtemp(prefix="quadcast-vtk-")
+    os.makedirs(out, exist_ok=True)
+    # VTK 9.1 in Debian opens an X display even offscreen: one Xvfb for the whole run.
+    xvfb = None
+    env = dict(os.environ)
+    if not env.get("DISPLAY"):
+        rfd, wfd = os.pipe()  # Xvfb writes the number of the free display it took
+        xvfb = subprocess.Popen(["Xvfb", "-displayfd", str(wfd), "-screen", "0", "1280x1024x24", "-nolisten", "tcp"],
+                                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, pass_fds=(wfd,))
+        os.close(wfd)
+        with os.fdopen(rfd) as f:
+            display = f.readline().strip()
+        if not display:
+            raise SystemExit("bench_vtk.py: Xvfb did not start (apt-get install xvfb)")
+        env["DISPLAY"] = ":" + display
+    me = [sys.executable, os.path.abspath(__file__)]
+    size = ["--width", str(args.width), "--height", str(args.height)]
+    print(f"quadcast against VTK {vtk_version()}: {args.width}x{args.height}, 30 degree perspective from (0.5, 0.5, 3); "
+          f"medians of {args.frames} frames per process, {args.rounds} rounds, order alternating; ratio > 1: quadcast faster")
+    print("%-16s %10s %10s %7s %13s | %9s %9s %7s | %8s %8s | %7s %7s" % (
+        "case", "quadcast", "VTK", "ratio", "round ratios", "qc first", "VTK first", "ratio", "qc MB", "VTK MB", "qc cov", "VTK cov"))
+    try:
+        for case in args.cases.split(","):
+            kind, n = case.split(":")
+            n = int(n)
+            data = scene_data(kind, n, args.seed)
+            scene = os.path.join(out, f"{kind}_{n}.json")
+            arrays = os.path.join(out, f"{kind}_{n}.npz")
+            write_quadcast_scene(scene, kind, data)
+            np.savez(arrays, kind=kind, **data)
+            qpng = os.path.join(out, f"{kind}_{n}_quadcast.png")
+            vpng = os.path.join(out, f"{kind}_{n}_vtk.png")
+            qcmd = [args.quadcast, "render", scene, "-o", qpng] + size
+            vcmd = me + ["--vtk-worker", arrays, "--png", vpng] + size
+            q_ms, v_ms = [], []
+            for r in range(args.rounds):
+                order = [0, 1] if r % 2 == 0 else [1, 0]
+                for who in order:
+                    if who == 0:
+                        s = run(qcmd + ["--frames", str(args.frames)], env)
+                        m = re.search(r"median frame ([0-9.]+) ms", s)
+                        q_ms.append(float(m.group(1)))
+                    else:
+                        s = run(vcmd + ["--frames", str(args.frames)], env)
+                        m = re.search(r"median ([0-9.]+) ms", s)
+                        v_ms.append(float(m.group(1)))
+            qf, qm, vf, vm = [], [], [], []
+            for r in range(max(1, args.rounds // 2)):
+                for who in ([0, 1] if r % 2 == 0 else [1, 0]):
+                    if who == 0:
+                        w, m = first_image(qcmd, env)
+                        qf.append(w), qm.append(m)
+                    else:
+                        w, m = first_image(vcmd + ["--frames", "0"], env)
+                        vf.append(w), vm.append(m)
+            ratios = [v / q for q, v in zip(q_ms, v_ms)]
+            qmed, vmed = statistics.median(q_ms), statistics.median(v_ms)
+            print("%-16s %8.1f ms %7.1f ms %6.2fx %5.2f-%5.2fx | %7.2f s %7.2f s %6.2fx | %8.0f %8.0f | %6.1f%% %6.1f%%" % (
+                f"{kind} {n}", qmed, vmed, vmed / qmed, min(ratios), max(ratios),
+                statistics.median(qf), statistics.median(vf), statistics.median(vf) / statistics.median(qf),
+                max(qm), max(vm), 100 * covered_share(qpng), 100 * covered_share(vpng)), flush=True)
+    finally:
+        if xvfb:
+            xvfb.terminate()
+    print(f"scenes and PNGs in {out}")
+
+
+def vtk_version():
+    try:
+        out = subprocess.run([sys.executable, "-c", "import vtk; print(vtk.vtkVersion.GetVTKVersion())"],
+                             stdout=subprocess.PIPE, text=True).stdout.strip()
+        return out or "?"
+    except OSError:
+        return "?"
+
+
+if __name__ == "__main__":
+    main()
