@@ -5,14 +5,16 @@
     tools/bench_vtk.py --quadcast build/tools/quadcast [--cases spheres:10000,sticks:50000]
                        [--rounds 5] [--frames 5] [--width 1024 --height 768] [--out DIR]
 
-The scene is that of `quadcast bench spheres`: N random spheres in the unit cube of radius
-0.3 N^(-1/3) (centres rounded to 5 decimals, as tools/sphere_scene.sh writes them); a 30 degree perspective camera from (0.5, 0.5, 3) looking at (0.5, 0.5, 0.5); one
+The scenes are those of `quadcast bench spheres` and `bench sticks`: N random spheres in the unit
+cube of radius 0.3 N^(-1/3) (centres rounded to 5 decimals, as tools/sphere_scene.sh writes them),
+or N capped cylinders of length 0.05 and radius 0.005 with uniform directions; a 30 degree perspective camera from (0.5, 0.5, 3) looking at (0.5, 0.5, 0.5); one
 grey colour; the default headlight. Each scene is written once as a quadcast JSON scene and once
 as a NumPy file for VTK (VTK reads binary arrays, so its loading is not slowed by JSON).
 
 quadcast: `quadcast render SCENE.json --frames F` (its default options: back-face culling and the
 occlusion cull pass on), the median of F frames after a warm-up, each frame ending in glFinish.
-VTK: vtkOpenGLSphereMapper (VTK's sphere impostor mapper, the one vtkMoleculeMapper uses) in an offscreen vtkRenderWindow under Xvfb, the median of F
+VTK: vtkOpenGLSphereMapper / vtkOpenGLStickMapper (VTK's impostor mappers, the ones
+vtkMoleculeMapper uses) in an offscreen vtkRenderWindow under Xvfb, the median of F
 Render() + WaitForCompletion() (glFinish) after a warm-up frame. Both run on the same Mesa
 llvmpipe. Rounds alternate the order (quadcast, VTK; VTK, quadcast; ...) so that load from other
 processes hits both alike; printed are the medians over the rounds and the ratio of the medians
@@ -44,7 +46,17 @@ def scene_data(kind, n, seed):
     if kind == "spheres":
         c = rng.random((n, 3))
         return {"centers": np.round(c, 5), "radius": 0.3 * n ** (-1.0 / 3.0)}
-    raise SystemExit(f"bench_vtk.py: unknown case kind '{kind}' (spheres; sticks are not measured: VTK's vtkOpenGLStickMapper drew nothing from Python 3 here)")
+    if kind == "sticks":
+        dirs = []
+        while sum(len(d) for d in dirs) < n:
+            d = rng.uniform(-1.0, 1.0, (2 * n, 3))
+            l = np.linalg.norm(d, axis=1)
+            keep = (l > 0.05) & (l <= 1.0)  # uniform directions
+            dirs.append(d[keep] / l[keep, None])
+        d = np.concatenate(dirs)[:n]
+        c = rng.random((n, 3))
+        return {"p0": np.round(c - 0.025 * d, 6), "p1": np.round(c + 0.025 * d, 6), "radius": 0.005}
+    raise SystemExit(f"bench_vtk.py: unknown case kind '{kind}' (spheres or sticks)")
 
 
 def write_quadcast_scene(path, kind, data):
@@ -52,7 +64,11 @@ def write_quadcast_scene(path, kind, data):
     with open(path, "w") as f:
         f.write(head)
         r = "%.6g" % data["radius"]
-        rows = ['{"sphere":{"center":[%.5f,%.5f,%.5f],"radius":%s}}' % (x, y, z, r) for x, y, z in data["centers"]]
+        if kind == "spheres":
+            rows = ['{"sphere":{"center":[%.5f,%.5f,%.5f],"radius":%s}}' % (x, y, z, r) for x, y, z in data["centers"]]
+        else:
+            rows = ['{"cylinder":{"p0":[%.6f,%.6f,%.6f],"p1":[%.6f,%.6f,%.6f],"radius":%s,"caps":true}}' % (*a, *b, r)
+                    for a, b in zip(data["p0"], data["p1"])]
         f.write(",\n".join(rows))
         f.write("\n]}\n")
 
@@ -72,6 +88,32 @@ def vtk_worker(args):
         pts.SetData(ns.numpy_to_vtk(centers, deep=True))
         mapper = vtk.vtkOpenGLSphereMapper()
         mapper.SetRadius(float(z["radius"]))
+        mapper.ScalarVisibilityOff()
+    else:
+        p0, p1 = z["p0"].astype(np.float64), z["p1"].astype(np.float64)
+        centers = np.ascontiguousarray((p0 + p1) * 0.5, dtype=np.float32)
+        axis = p1 - p0
+        length = np.linalg.norm(axis, axis=1)
+        pts.SetData(ns.numpy_to_vtk(centers, deep=True))
+        # vtkOpenGLStickMapper, as vtkMoleculeMapper feeds it: per point (and vertex cell) the
+        # centre, a unit orientation, a 3-component scale (length, radius, radius), a selection id
+        # and direct RGBA colours (without colours it draws nothing).
+        def add(a, name, vtk_type=None):
+            x = ns.numpy_to_vtk(a, deep=True, array_type=vtk_type) if vtk_type else ns.numpy_to_vtk(a, deep=True)
+            x.SetName(name)
+            pd.GetPointData().AddArray(x)
+            return x
+        add(np.ascontiguousarray(axis / length[:, None], dtype=np.float32), "orient")
+        r = float(z["radius"])
+        add(np.ascontiguousarray(np.stack([length, np.full_like(length, r), np.full_like(length, r)], axis=1), dtype=np.float32), "scale")
+        add(np.zeros(len(centers), dtype=np.uint32), "selection", vtk.VTK_UNSIGNED_INT)
+        pd.GetPointData().SetScalars(add(np.full((len(centers), 4), (204, 204, 204, 255), dtype=np.uint8), "colors", vtk.VTK_UNSIGNED_CHAR))
+        mapper = vtk.vtkOpenGLStickMapper()
+        mapper.SetOrientationArray("orient")
+        mapper.SetScaleArray("scale")
+        mapper.SetSelectionIdArray("selection")
+        mapper.SetColorModeToDirectScalars()
+        mapper.ScalarVisibilityOn()
     pd.SetPoints(pts)
     # one vertex cell per point (the mappers draw the points of the vertex cells)
     n = pts.GetNumberOfPoints()
@@ -82,7 +124,6 @@ def vtk_worker(args):
     verts.SetCells(n, ns.numpy_to_vtkIdTypeArray(conn, deep=True))
     pd.SetVerts(verts)
     mapper.SetInputData(pd)
-    mapper.ScalarVisibilityOff()
     actor = vtk.vtkActor()
     actor.SetMapper(mapper)
     actor.GetProperty().SetColor(0.8, 0.8, 0.8)
@@ -160,7 +201,7 @@ def covered_share(png):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--quadcast", default=os.path.join(HERE, "..", "build", "tools", "quadcast"))
-    ap.add_argument("--cases", default="spheres:10000,spheres:100000,spheres:1000000")
+    ap.add_argument("--cases", default="spheres:10000,spheres:100000,spheres:1000000,sticks:50000")
     ap.add_argument("--rounds", type=int, default=5)
     ap.add_argument("--frames", type=int, default=5)
     ap.add_argument("--width", type=int, default=1024)
