@@ -6,10 +6,10 @@
                        [--rounds 5] [--frames 5] [--width 1024 --height 768] [--out DIR]
 
 The scenes are those of `quadcast bench spheres` and `bench sticks`: N random spheres in the unit
-cube of radius 0.3 N^(-1/3) (centres rounded to 5 decimals, as tools/sphere_scene.sh writes them),
+cube of radius 0.3 N^(-1/3) (written by tools/sphere_scene.sh; VTK draws the numbers of that file),
 or N capped cylinders of length 0.05 and radius 0.005 with uniform directions; a 30 degree perspective camera from (0.5, 0.5, 3) looking at (0.5, 0.5, 0.5); one
-grey colour; the default headlight. Each scene is written once as a quadcast JSON scene and once
-as a NumPy file for VTK (VTK reads binary arrays, so its loading is not slowed by JSON).
+grey colour; the default headlight. Each scene is a quadcast JSON scene, and its numbers go to VTK
+as a NumPy file (VTK reads binary arrays, so its loading is not slowed by JSON).
 
 quadcast: `quadcast render SCENE.json --frames F` (its default options: back-face culling and the
 occlusion cull pass on), the median of F frames after a warm-up, each frame ending in glFinish.
@@ -40,13 +40,18 @@ import time
 HERE = os.path.dirname(os.path.abspath(__file__))
 
 
-def scene_data(kind, n, seed):
+def make_scene(kind, n, seed, scene):
+    """Writes the quadcast scene file `scene` and returns the arrays VTK draws from it."""
     import numpy as np
-    rng = np.random.default_rng(seed)
     if kind == "spheres":
-        c = rng.random((n, 3))
-        return {"centers": np.round(c, 5), "radius": 0.3 * n ** (-1.0 / 3.0)}
+        # The scene of `bench spheres` as tools/sphere_scene.sh writes it; VTK gets its numbers.
+        with open(scene, "w") as f:
+            subprocess.run(["sh", os.path.join(HERE, "sphere_scene.sh"), str(n), str(seed)], stdout=f, check=True)
+        with open(scene) as f:
+            objects = json.load(f)["objects"]
+        return {"centers": np.array([o["sphere"]["center"] for o in objects]), "radius": objects[0]["sphere"]["radius"]}
     if kind == "sticks":
+        rng = np.random.default_rng(seed)
         dirs = []
         while sum(len(d) for d in dirs) < n:
             d = rng.uniform(-1.0, 1.0, (2 * n, 3))
@@ -55,22 +60,14 @@ def scene_data(kind, n, seed):
             dirs.append(d[keep] / l[keep, None])
         d = np.concatenate(dirs)[:n]
         c = rng.random((n, 3))
-        return {"p0": np.round(c - 0.025 * d, 6), "p1": np.round(c + 0.025 * d, 6), "radius": 0.005}
+        p0, p1 = np.round(c - 0.025 * d, 6), np.round(c + 0.025 * d, 6)
+        with open(scene, "w") as f:
+            f.write('{"camera": {"eye": [0.5, 0.5, 3], "target": [0.5, 0.5, 0.5], "fov_y": 30},\n "objects": [\n')
+            f.write(",\n".join('{"cylinder":{"p0":[%.6f,%.6f,%.6f],"p1":[%.6f,%.6f,%.6f],"radius":0.005,"caps":true}}' % (*a, *b)
+                               for a, b in zip(p0, p1)))
+            f.write("\n]}\n")
+        return {"p0": p0, "p1": p1, "radius": 0.005}
     raise SystemExit(f"bench_vtk.py: unknown case kind '{kind}' (spheres or sticks)")
-
-
-def write_quadcast_scene(path, kind, data):
-    head = '{"camera": {"eye": [0.5, 0.5, 3], "target": [0.5, 0.5, 0.5], "fov_y": 30},\n "objects": [\n'
-    with open(path, "w") as f:
-        f.write(head)
-        r = "%.6g" % data["radius"]
-        if kind == "spheres":
-            rows = ['{"sphere":{"center":[%.5f,%.5f,%.5f],"radius":%s}}' % (x, y, z, r) for x, y, z in data["centers"]]
-        else:
-            rows = ['{"cylinder":{"p0":[%.6f,%.6f,%.6f],"p1":[%.6f,%.6f,%.6f],"radius":%s,"caps":true}}' % (*a, *b, r)
-                    for a, b in zip(data["p0"], data["p1"])]
-        f.write(",\n".join(rows))
-        f.write("\n]}\n")
 
 
 def vtk_worker(args):
@@ -161,7 +158,6 @@ def vtk_worker(args):
         win.WaitForCompletion()
         ms.append((time.perf_counter() - t0) * 1e3)
     print("median %.3f ms" % statistics.median(ms))
-    print("renderer %s" % win.ReportCapabilities().split("OpenGL renderer string:")[-1].split("\n")[0].strip())
 
 
 def run(cmd, env):
@@ -217,6 +213,7 @@ def main():
     if not os.path.exists(args.quadcast):
         raise SystemExit(f"bench_vtk.py: no quadcast program at {args.quadcast} (make build, or --quadcast PATH)")
     import numpy as np
+    import vtk
     out = args.out or tempfile.mkdtemp(prefix="quadcast-vtk-")
     os.makedirs(out, exist_ok=True)
     # VTK 9.1 in Debian opens an X display even offscreen: one Xvfb for the whole run.
@@ -234,7 +231,7 @@ def main():
         env["DISPLAY"] = ":" + display
     me = [sys.executable, os.path.abspath(__file__)]
     size = ["--width", str(args.width), "--height", str(args.height)]
-    print(f"quadcast against VTK {vtk_version()}: {args.width}x{args.height}, 30 degree perspective from (0.5, 0.5, 3); "
+    print(f"quadcast against VTK {vtk.vtkVersion.GetVTKVersion()}: {args.width}x{args.height}, 30 degree perspective from (0.5, 0.5, 3); "
           f"medians of {args.frames} frames per process, {args.rounds} rounds, order alternating; ratio > 1: quadcast faster")
     print("%-16s %10s %10s %7s %13s | %9s %9s %7s | %8s %8s | %7s %7s" % (
         "case", "quadcast", "VTK", "ratio", "round ratios", "qc first", "VTK first", "ratio", "qc MB", "VTK MB", "qc cov", "VTK cov"))
@@ -242,10 +239,9 @@ def main():
         for case in args.cases.split(","):
             kind, n = case.split(":")
             n = int(n)
-            data = scene_data(kind, n, args.seed)
             scene = os.path.join(out, f"{kind}_{n}.json")
             arrays = os.path.join(out, f"{kind}_{n}.npz")
-            write_quadcast_scene(scene, kind, data)
+            data = make_scene(kind, n, args.seed, scene)
             np.savez(arrays, kind=kind, **data)
             qpng = os.path.join(out, f"{kind}_{n}_quadcast.png")
             vpng = os.path.join(out, f"{kind}_{n}_vtk.png")
@@ -282,15 +278,6 @@ def main():
         if xvfb:
             xvfb.terminate()
     print(f"scenes and PNGs in {out}")
-
-
-def vtk_version():
-    try:
-        out = subprocess.run([sys.executable, "-c", "import vtk; print(vtk.vtkVersion.GetVTKVersion())"],
-                             stdout=subprocess.PIPE, text=True).stdout.strip()
-        return out or "?"
-    except OSError:
-        return "?"
 
 
 if __name__ == "__main__":
