@@ -4,7 +4,7 @@ BUILD ?= build
 JOBS ?= $(shell nproc)
 DEB_PACKAGES := cmake g++ clang make pkg-config libeigen3-dev libglm-dev glslang-tools glslang-dev \
   doctest-dev libosmesa6-dev libcli11-dev nlohmann-json3-dev libtbb-dev libmpfrc++-dev libmpfr-dev \
-  libgmp-dev libbenchmark-dev libpng-dev nlohmann-json3-dev pymol-data zlib1g-dev libclang-rt-14-dev
+  libgmp-dev libbenchmark-dev libpng-dev nlohmann-json3-dev pymol-data zlib1g-dev libclang-rt-14-dev libgmsh-dev
 DEMO_PACKAGES :=
 # `make bench-vtk` only: VTK 9 (the peer renderer), NumPy for its arrays, Xvfb for its display.
 BENCH_VTK_PACKAGES := python3-vtk9 python3-numpy xvfb xauth
@@ -56,7 +56,7 @@ test: build fuzz-build
 # each for FUZZ_SECONDS, keeping what it finds in $(FUZZ_BUILD)/corpus/<reader>.
 FUZZ_BUILD ?= build-fuzz
 FUZZ_SECONDS ?= 600
-FUZZ_READERS := scene_json pdb off inr inr_gz nrrd raw slim
+FUZZ_READERS := scene_json pdb off inr inr_gz nrrd raw slim msh
 FUZZ_FLAGS := -fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer -fsanitize=fuzzer-no-link
 fuzz-build: deps
 	@if echo 'extern "C" int LLVMFuzzerTestOneInput(const char*, unsigned long) { return 0; }' | \
@@ -101,13 +101,14 @@ test-clang: deps
 	cd $(CLANG_BUILD) && ctest --output-on-failure -j $(JOBS)
 
 DEMO_SCENES := 1tii_balls_and_sticks 1tii_space_filling il2_balls_and_sticks il2_space_filling quads_cube primitives marschner_lobb_qss reflective \
-  skull_s31 liver_qss bunny_sdf_s31 slim_bunny slim_kitten slim_fandisk slim_dragon
+  skull_s31 liver_qss bunny_sdf_s31 slim_bunny slim_kitten slim_fandisk slim_dragon tetmesh_tangle
 
 demo: build demo-deps data
 	@mkdir -p demo-out
 	$(BUILD)/tools/quadcast verify
 	$(BUILD)/tools/quadcast bench stability
 	$(BUILD)/tools/quadcast slim-build $(DATA_DIR)/ChineseDragon-10kv.off -o $(DATA_DIR)/dragon_2e-3.slim --error 2e-3 --samples 100000
+	$(BUILD)/tools/quadcast-msh-example -o $(DATA_DIR)/tangle_order2.msh --field tangle --box -3,3 --size 0.3 --order 2 --binary
 	@for s in $(DEMO_SCENES); do \
 	  $(BUILD)/tools/quadcast render examples/demo/$$s.json -o demo-out/$$s.png --width 1024 --height 768 --frames 3 || exit 1; \
 	done

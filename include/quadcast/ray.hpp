@@ -496,6 +496,16 @@ TetPlanes<T> tet_planes(const BoundingTet<T>& t) {
     return r;
 }
 
+/// The barycentric coordinates of a tetrahedron as affine functions: lambda_i(x) =
+/// dot(r.plane[i], (x, 1)), 1 at corner i and 0 on the opposite face (`tet_planes` scaled).
+/// Numerics: plane[i] / dot(plane[i], (p_i, 1)).
+template <class T>
+TetPlanes<T> barycentric_planes(const BoundingTet<T>& t) {
+    TetPlanes<T> r = tet_planes(t);
+    for (int i = 0; i < 4; ++i) r.plane[i] = r.plane[i] / dot(r.plane[i], vec4(t.p[i], T(1)));
+    return r;
+}
+
 /// x is inside or on the tetrahedron: all four plane tests >= 0.
 /// Numerics: each test ((n0 x + n1 y) + n2 z) + d.
 template <class T>

@@ -288,26 +288,32 @@ inline render::Primitive cone(const glm::vec3& apex, const glm::vec3& base, floa
 }
 
 /// The homogeneous matrix Q (x~^T Q x~ = 0, x~ = (x, y, z, 1); symmetrised as (Q + Q^T) / 2) of
-/// a general quadric, clipped to a sphere.
-inline render::Primitive quadric(const glm::mat4& q_world, const SphereBound& bound, const Appearance& look = {}) {
+/// a general quadric, clipped to a sphere. Q is taken in double and moved to the bound's centre
+/// before it is rounded to float: give it in double (glm::dmat4) when the bound lies far from the
+/// origin compared with its size (a float Q's constant term there has lost the surface).
+inline render::Primitive quadric(const glm::dmat4& q_world, const SphereBound& bound, const Appearance& look = {}) {
     const char* fn = "quadric";
     const detail::V3 c = detail::point(fn, "bound.center", bound.center);
     const double r = detail::positive(fn, "bound.radius", bound.radius);
     Quadric<double> q{};
     for (int j = 0; j < 4; ++j)
-        for (int i = 0; i < 4; ++i) q.q[j][i] = 0.5 * (double(q_world[j][i]) + double(q_world[i][j]));
+        for (int i = 0; i < 4; ++i) q.q[j][i] = 0.5 * (q_world[j][i] + q_world[i][j]);
     q = detail::normalized(fn, q);
     return detail::make(fn, translate_to_eye(q, c), c, r, render::Variant::bounded, look);
 }
+inline render::Primitive quadric(const glm::mat4& q_world, const SphereBound& bound, const Appearance& look = {}) {
+    return quadric(glm::dmat4(q_world), bound, look);
+}
 
-/// A general quadric clipped to a tetrahedron (whose corners must span a volume).
-inline render::Primitive quadric(const glm::mat4& q_world, const TetrahedronBound& bound, const Appearance& look = {}) {
+/// A general quadric clipped to a tetrahedron (whose corners must span a volume); Q in double
+/// as above (e.g. the pieces of a finite-element mesh far from the origin).
+inline render::Primitive quadric(const glm::dmat4& q_world, const TetrahedronBound& bound, const Appearance& look = {}) {
     const char* fn = "quadric";
     std::array<detail::V3, 4> p{};
     for (int i = 0; i < 4; ++i) p[static_cast<std::size_t>(i)] = detail::point(fn, "bound.corners", bound.corners[static_cast<std::size_t>(i)]);
     Quadric<double> q{};
     for (int j = 0; j < 4; ++j)
-        for (int i = 0; i < 4; ++i) q.q[j][i] = 0.5 * (double(q_world[j][i]) + double(q_world[i][j]));
+        for (int i = 0; i < 4; ++i) q.q[j][i] = 0.5 * (q_world[j][i] + q_world[i][j]);
     q = detail::normalized(fn, q);
     detail::V3 c;
     double r;
@@ -321,10 +327,13 @@ inline render::Primitive quadric(const glm::mat4& q_world, const TetrahedronBoun
     render::Primitive prim = detail::make(fn, translate_to_eye(q, c), c, r, render::Variant::planes, look);
     BoundingTet<double> t{};
     for (int i = 0; i < 4; ++i) t.p[i] = p[static_cast<std::size_t>(i)] - c;
-    const TetPlanes<double> pl = tet_planes(t);
     // Each face plane scaled to the barycentric coordinate of its opposite corner (1 there).
-    for (int i = 0; i < 4; ++i) prim.shape.planes[i] = cast<float>(pl.plane[i] / dot(pl.plane[i], vec4(t.p[i], 1.0)));
+    const TetPlanes<double> pl = barycentric_planes(t);
+    for (int i = 0; i < 4; ++i) prim.shape.planes[i] = cast<float>(pl.plane[i]);
     return prim;
+}
+inline render::Primitive quadric(const glm::mat4& q_world, const TetrahedronBound& bound, const Appearance& look = {}) {
+    return quadric(glm::dmat4(q_world), bound, look);
 }
 
 /// The four clip planes of a quad (local coordinates around `c`) and the slab half-thickness

@@ -13,6 +13,7 @@
 #include <tuple>
 
 #include "quadcast/image/image_io.hpp"
+#include "quadcast/scene/msh.hpp"
 #include "quadcast/scene/off.hpp"
 #include "quadcast/scene/pdb.hpp"
 
@@ -283,6 +284,11 @@ void load_volume(ObjectContext& ctx) {
         const std::string k = s->choice({"qss", "s31", "trilinear"});
         v.scheme = k == "s31" ? Volume::Scheme::s31 : k == "trilinear" ? Volume::Scheme::trilinear : Volume::Scheme::qss;
     }
+    if (const auto m = ctx.entry.get("method")) {
+        v.method = m->choice({"bezier", "quadric"}) == "quadric" ? Volume::Method::quadric : Volume::Method::bezier;
+        if (v.method == Volume::Method::quadric && v.scheme != Volume::Scheme::qss)
+            m->fail("\"quadric\" draws the pieces of a QSS spline (\"scheme\": \"qss\"); S31 pieces are cubic and trilinear cells are not quadrics");
+    }
     const std::string text = ctx.value.string();
     if (text.rfind("synthetic:", 0) == 0) {
         std::string rest = text.substr(10), name = rest;
@@ -352,6 +358,39 @@ void load_slim(ObjectContext& ctx) {
     }
     if (m.balls.empty()) ctx.scene.warnings.push_back(ctx.value.warning("the SLIM model has no balls"));
     ctx.scene.slims.push_back(std::move(m));
+}
+
+/// "tetmesh": a Gmsh .msh file (4.1) of 4- or 10-node tetrahedra; "iso" (required) of the nodal
+/// field "field" (optional when the file has one field) at time step "step" (optional when the
+/// field has one). Each element the isosurface crosses becomes a quadric clipped to it.
+void load_tetmesh(ObjectContext& ctx) {
+    const std::filesystem::path path = ctx.file_path();
+    TetmeshIso what;
+    const JsonNode iso = ctx.entry.at("iso");
+    what.iso = iso.number();
+    if (const auto f = ctx.entry.get("field")) {
+        what.field = f->string();
+        if (what.field.empty()) f->fail("empty field name");
+    }
+    if (const auto st = ctx.entry.get("step")) {
+        const double k = st->number(Range::nonnegative);
+        if (k != std::floor(k) || k > 2147483647.0) st->fail("a time step is a non-negative integer", true);
+        what.step = static_cast<int>(k);
+    }
+    std::vector<Quadric> pieces;
+    try {
+        const MshMesh mesh = read_msh(path);
+        ctx.scene.warnings.insert(ctx.scene.warnings.end(), mesh.warnings.begin(), mesh.warnings.end());
+        pieces = tetmesh_isosurface(mesh, what, ctx.material, ctx.value.location());
+    } catch (const ParseError& err) {
+        if (err.file() != path.string()) {  // the choice's error: its field names the scene key
+            if (const auto key = ctx.entry.get(err.field())) key->fail(err.message());
+            ctx.value.fail(err.message());
+        }
+        rethrow_from(err, ctx.value);
+    }
+    if (pieces.empty()) ctx.scene.warnings.push_back(iso.warning("the isosurface crosses no element (nothing to draw)"));
+    ctx.scene.quadrics.insert(ctx.scene.quadrics.end(), pieces.begin(), pieces.end());
 }
 
 // Scene sections -------------------------------------------------------------------------------
@@ -558,8 +597,9 @@ const std::vector<ObjectKind>& object_kinds() {
         {"quad", {}, load_quad},
         {"pdb", {"style", "ball_scale", "bond_radius", "vdw_scale", "strict"}, load_pdb},
         {"off", {"triangles"}, load_off},
-        {"volume", {"iso", "scheme"}, load_volume},
+        {"volume", {"iso", "scheme", "method"}, load_volume},
         {"slim", {"error"}, load_slim},
+        {"tetmesh", {"field", "step", "iso"}, load_tetmesh},
     };
     return kinds;
 }

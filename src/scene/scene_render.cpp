@@ -27,8 +27,8 @@ shapes::Appearance look(const scene::Material& m) {
 }
 
 /// Q' = M^T Q M for the frame's x = scale x' + offset, normalised in double (shapes' own
-/// normalisation, before anything becomes float).
-glm::mat4 frame_quadric(const Mat4<double>& q, const FrameTransform& t) {
+/// normalisation); it stays double until shapes::quadric has moved it to its bound's centre.
+glm::dmat4 frame_quadric(const Mat4<double>& q, const FrameTransform& t) {
     Mat4<double> m = zero_mat<double, 4, 4>();
     for (int i = 0; i < 3; ++i) {
         m[i][i] = t.scale;
@@ -36,9 +36,9 @@ glm::mat4 frame_quadric(const Mat4<double>& q, const FrameTransform& t) {
     }
     m[3][3] = 1.0;
     const Quadric<double> r = shapes::detail::normalized("quadric", Quadric<double>{transpose(m) * q * m});
-    glm::mat4 out;
+    glm::dmat4 out;
     for (int j = 0; j < 4; ++j)
-        for (int i = 0; i < 4; ++i) out[j][i] = static_cast<float>(r.q[j][i]);
+        for (int i = 0; i < 4; ++i) out[j][i] = r.q[j][i];
     return out;
 }
 
@@ -114,7 +114,7 @@ Frame build_frame(const scene::Scene& s, int width, int height) {
     for (std::size_t i = 0; i < s.quadrics.size(); ++i) {
         const auto& x = s.quadrics[i];
         add(&O::quadrics, i, [&] {
-            const glm::mat4 q = frame_quadric(x.q, t);
+            const glm::dmat4 q = frame_quadric(x.q, t);
             if (x.bound == scene::Quadric::Bound::sphere)
                 return shapes::quadric(q, shapes::SphereBound{P(x.sphere.center), L(x.sphere.radius)}, look(x.material));
             shapes::TetrahedronBound tb{};
@@ -180,6 +180,10 @@ Frame build_frame(const scene::Scene& s, int width, int height) {
     fr.options.width = width;
     fr.options.height = height;
     fr.options.culling = s.options.culling;
+    if (fr.options.culling && std::any_of(s.quadrics.begin(), s.quadrics.end(), [](const scene::Quadric& q) { return q.two_sided; })) {
+        fr.options.culling = false;
+        fr.notes.push_back(isosurface_culling_note);
+    }
     fr.options.tight_bounds = s.options.tight_bounds;
     fr.options.occlusion_culling = s.options.occlusion_culling;
     fr.options.background = cast<float>(s.options.background);

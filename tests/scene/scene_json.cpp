@@ -158,7 +158,7 @@ TEST_CASE("wrong types, array lengths, ranges and missing keys are errors naming
           "s.json:1:51: /objects/0/cylinder/p1: equals p0 (zero-length axis)");
     CHECK(what(R"({"color": [1, 0, 0]})") ==
           "s.json:1:14: /objects/0: no object kind; an object needs one of the keys: sphere, ellipsoid, cylinder, cone, "
-          "quadric, quad, pdb, off, volume, slim");
+          "quadric, quad, pdb, off, volume, slim, tetmesh");
     CHECK(what(R"({"sphere": {"center": [0, 0, 0], "radius": 1}, "quad": {}})").find("/objects/0/quad: an object has one kind") !=
           std::string::npos);
     CHECK(what("42") == "s.json:1:14: /objects/0: expected an object such as {\"sphere\": {...}}, got number 42");

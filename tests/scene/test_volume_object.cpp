@@ -49,3 +49,12 @@ TEST_CASE("bad volume objects are errors naming the pointer") {
     CHECK(volume_error(R"({"volume": "synthetic:franke", "iso": 0, "scheme": "cubic"})").find("/objects/0/scheme") != std::string::npos);
     CHECK(volume_error(R"({"volume": "no_such_file.inr", "iso": 0})").find("no such file") != std::string::npos);
 }
+
+TEST_CASE("\"method\": bezier (default) or quadric, the latter for QSS only") {
+    CHECK(parse_volume(R"({"volume": "synthetic:franke", "iso": 0.3})").volumes[0].method == Volume::Method::bezier);
+    CHECK(parse_volume(R"({"volume": "synthetic:franke", "iso": 0.3, "method": "bezier", "scheme": "s31"})").volumes[0].method == Volume::Method::bezier);
+    CHECK(parse_volume(R"({"method": "quadric", "volume": "synthetic:franke", "iso": 0.3})").volumes[0].method == Volume::Method::quadric);
+    CHECK(volume_error(R"({"volume": "synthetic:franke", "iso": 0.3, "scheme": "s31", "method": "quadric"})")
+              .find("/objects/0/method: \"quadric\" draws the pieces of a QSS spline") != std::string::npos);
+    CHECK(volume_error(R"({"volume": "synthetic:franke", "iso": 0.3, "method": "stoll"})").find("/objects/0/method:") != std::string::npos);
+}

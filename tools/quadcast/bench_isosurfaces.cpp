@@ -23,6 +23,8 @@
 #include "quadcast/gl/isosurface_renderer.hpp"
 #include "quadcast/gl/osmesa_context.hpp"
 #include "quadcast/gl/quadric_renderer.hpp"
+#include "quadcast/isosurface.hpp"
+#include "quadcast/render/record.hpp"
 #include "quadcast/render/spline_cpu_renderer.hpp"
 #include "quadcast/scene/scene_render.hpp"
 
@@ -66,6 +68,99 @@ struct Gl {
         return ms_since(t0);
     }
 };
+
+/// Coverage and depth differences of two images of the same view.
+struct Diff {
+    long covered = 0, coverage = 0, isolated = 0, colour = 0;
+    double depth = 0;
+};
+Diff image_diff(const render::Image& a, const render::Image& b) {
+    Diff d;
+    const auto cov = [](const render::Image& im, int x, int y) { return im.depth[static_cast<std::size_t>(y) * im.width + x] < 1.0f; };
+    for (int y = 0; y < a.height; ++y)
+        for (int x = 0; x < a.width; ++x) {
+            const std::size_t i = static_cast<std::size_t>(y) * a.width + x;
+            const bool ca = cov(a, x, y), cb = cov(b, x, y);
+            d.covered += ca;
+            if (ca != cb) {
+                ++d.coverage;
+                bool edge = false;  // a silhouette: a neighbour differs in coverage in b
+                for (int dy = -1; dy <= 1; ++dy)
+                    for (int dx = -1; dx <= 1; ++dx) {
+                        const int xx = x + dx, yy = y + dy;
+                        if (xx >= 0 && yy >= 0 && xx < a.width && yy < a.height) edge = edge || cov(b, xx, yy) != cb;
+                    }
+                d.isolated += !edge;
+                continue;
+            }
+            if (!ca) continue;
+            d.depth = std::max(d.depth, std::fabs(double(a.depth[i]) - double(b.depth[i])));
+            for (int c = 0; c < 3; ++c)
+                if (std::abs(int(a.rgba[4 * i + c]) - int(b.rgba[4 * i + c])) > 2) {
+                    ++d.colour;
+                    break;
+                }
+        }
+    return d;
+}
+
+/// QSS drawn two ways on the same views, frames interleaved: Kalbe & Zeilfelder's per-cube
+/// Bézier ray casting (the isosurface renderer) and Stoll et al.'s quadrics clipped to the
+/// relevant tetrahedra (shapes::isosurface_quadrics drawn by the quadric renderer, with and
+/// without its occlusion cull pass).
+void compare_qss_methods(Gl& gl, const render::VolumeModel& m, const render::Light& light, const render::RenderOptions& o, const IsoBenchOptions& a) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const std::vector<render::Primitive> pieces = shapes::isosurface_quadrics(m);
+    const double conv = ms_since(t0);
+    gl::QuadricRenderer stoll(gl.ctx.api());
+    stoll.set_primitives(pieces);
+    std::size_t relevant = 0;
+    for (const std::uint32_t mask : m.tet_mask) relevant += static_cast<std::size_t>(__builtin_popcount(mask));
+    const double dset_bytes = double(m.dsets.size() * sizeof(float) + m.tet_mask.size() * 4 + m.cubes.size() * 4);
+    const double record_bytes = double(render::record_slots * 4 * sizeof(float));
+    std::printf("\nQSS two ways (%zu active cubes, %zu relevant tetrahedra; frames interleaved, ratios to the Bezier path):\n", m.active, relevant);
+    std::printf("  bezier:  determining sets %.0f B per relevant tetrahedron kept on the GPU, plus per frame 16 B of element record and\n"
+                "           48 B of indices per tetrahedron drawn (rebuilt on the CPU each frame)\n",
+                dset_bytes / double(std::max<std::size_t>(relevant, 1)));
+    std::printf("  quadric: %zu pieces built in %.0f ms from the prepared model, %.0f B of primitive record per piece kept on the GPU\n",
+                pieces.size(), conv, record_bytes);
+    std::printf("%-9s %12s %12s %8s %16s %8s %10s %10s %10s %10s\n", "view", "bezier ms", "quadric ms", "ratio", "quadric no occl", "ratio",
+                "covered", "cov diff", "isolated", "max depth");
+    render::RenderOptions oq = o;
+    oq.culling = false;  // isosurface pieces are two-sided (render::isosurface_culling_note)
+    render::RenderOptions no_occl = oq;
+    no_occl.occlusion_culling = false;
+    for (double dist : {2.4, 0.8}) {
+        const render::Camera cam = view_of(m, dist, a.width, a.height);
+        gl.frame(cam, light, o);
+        stoll.draw(cam, light, oq);  // warm-up: compiles the variants
+        stoll.draw(cam, light, no_occl);
+        std::vector<double> tb, tq, tn;
+        for (int i = 0; i < a.frames; ++i) {
+            tb.push_back(gl.frame(cam, light, o));
+            auto t1 = std::chrono::steady_clock::now();
+            stoll.draw(cam, light, oq);
+            tq.push_back(ms_since(t1));
+            t1 = std::chrono::steady_clock::now();
+            stoll.draw(cam, light, no_occl);
+            tn.push_back(ms_since(t1));
+        }
+        gl.frame(cam, light, o);
+        const render::Image bez = gl.quadrics.read();
+        stoll.draw(cam, light, oq);
+        const render::Image quad = stoll.read();
+        if (!a.png.empty()) {
+            render::write_png(a.png + (dist > 1 ? "_whole" : "_closeup") + "_qss_bezier.png", bez);
+            render::write_png(a.png + (dist > 1 ? "_whole" : "_closeup") + "_qss_quadric.png", quad);
+        }
+        const Diff d = image_diff(quad, bez);
+        const double b = median(tb);
+        std::printf("%-9s %12.1f %12.1f %7.2fx %16.1f %7.2fx %10ld %10ld %10ld %10.2g\n", dist > 1 ? "whole" : "close-up", b, median(tq), b / median(tq),
+                    median(tn), b / median(tn), d.covered, d.coverage, d.isolated, d.depth);
+    }
+    std::printf("(ratio > 1: the quadrics are faster; cov diff: pixels covered by one image only, isolated: of those, the ones with no\n"
+                " coverage edge next to them in the Bezier image; max depth: largest window-depth difference where both cover)\n");
+}
 
 void run(const IsoBenchOptions& a) {
     volume::VolumeRequest req;
@@ -162,6 +257,7 @@ void run(const IsoBenchOptions& a) {
                     base, median(t_nofr), median(t_nofr) / base, median(t_notet), median(t_notet) / base);
         (void)nofr;
     }
+    compare_qss_methods(gl, m, light, o, a);
     std::printf("\n(GL ms: coefficients averaged in the vertex stage; GL pre-pass: in a compute pre-pass, and the speed-up)\n");
     std::printf("(range has rho: the octree keeps the cubes whose coefficient range contains the isovalue; in frustum: of these, the ones\n"
                 " whose box is not outside the view; tets drawn: relevant tetrahedra of those cubes; no test: all 24 per cube)\n");

@@ -190,6 +190,26 @@ int run_render(const RenderArgs& a) {
         if (!volumes.empty())
             std::fprintf(stderr, "%s: %zu volume(s) prepared in %.1f ms, %zu active cubes\n", a.scene.c_str(), volumes.size(),
                          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count(), active_cubes(volumes));
+        // "method": "quadric": the QSS pieces join the primitives (Stoll's path) instead of the
+        // isosurface renderers' cubes.
+        std::vector<render::VolumeModel> kept;
+        for (std::size_t i = 0; i < volumes.size(); ++i) {
+            if (sc.volumes[i].method != scene::Volume::Method::quadric) {
+                kept.push_back(std::move(volumes[i]));
+                continue;
+            }
+            const auto t1 = std::chrono::steady_clock::now();
+            const std::vector<render::Primitive> pieces = shapes::isosurface_quadrics(volumes[i]);
+            fr.primitives.insert(fr.primitives.end(), pieces.begin(), pieces.end());
+            if (fr.options.culling) {
+                fr.options.culling = false;
+                std::cerr << a.scene << ": note: " << render::isosurface_culling_note << "\n";
+            }
+            std::fprintf(stderr, "%s: %s: %zu QSS pieces as quadrics clipped to their tetrahedra (%.1f ms)\n", a.scene.c_str(),
+                         sc.volumes[i].input.c_str(), pieces.size(),
+                         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t1).count());
+        }
+        volumes = std::move(kept);
     } catch (const std::bad_alloc&) {
         std::cerr << "quadcast render: " << a.scene << ": out of memory while preparing the volumes\n";
         return 1;

@@ -119,6 +119,9 @@ struct Quadric {
     BoundingSphere sphere{};            ///< used when bound == sphere
     BoundingTetrahedron tetrahedron{};  ///< used when bound == tetrahedron
     Material material;
+    /// A piece of an isosurface (the "tetmesh" object): a field's level set has no outside, so
+    /// either side may face the eye; a frame with such pieces draws without per-quadric culling.
+    bool two_sided = false;
 };
 
 /// Bilinear patch P(u,v) = (1-u)(1-v) p[0] + u(1-v) p[1] + uv p[2] + (1-u)v p[3], u,v in [0,1]:
@@ -202,6 +205,11 @@ struct Volume {
     double iso = 0.0;
     Location iso_where;      ///< where "iso" was written (for a range error found when the data are read)
     Scheme scheme = Scheme::qss;
+    /// How a QSS isosurface is drawn: per cube by the isosurface renderers (Kalbe & Zeilfelder,
+    /// `bezier`), or each relevant tetrahedron's piece as a quadric clipped to it by the quadric
+    /// renderers (Stoll et al. 2006, sec. 5.1.2, `quadric`; shapes::isosurface_quadrics).
+    enum class Method { bezier, quadric };
+    Method method = Method::bezier;
     Material material;
     Aabb box;
 };

@@ -27,6 +27,12 @@ struct FrameTransform {
 FrameTransform frame_transform(const scene::Aabb& box);
 
 /// Everything a renderer needs for one scene.
+/// The note of a frame whose per-quadric culling is turned off because it draws isosurface
+/// pieces (scene::Quadric::two_sided, or a volume drawn with "method": "quadric").
+inline constexpr const char* isosurface_culling_note =
+    "per-quadric culling is off for this frame: isosurface pieces (\"tetmesh\", \"method\": \"quadric\") have no outside, "
+    "either side may face the eye";
+
 struct Frame {
     FrameTransform transform;  ///< world -> frame; the primitives and the camera are in the frame
     std::vector<Primitive> primitives;
