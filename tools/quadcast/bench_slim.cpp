@@ -4,7 +4,9 @@
 // files) and per error threshold E (relative to the bounding-box diagonal):
 //  - SLIM: the mesh sampled to oriented points (`slim::read_points`, default samples), built with
 //    `slim::build` at E (build time, balls), drawn by the GL three-pass renderer
-//    (`gl::SlimRenderer` in a `gl::QuadricRenderer`).
+//    (`gl::SlimRenderer` in a `gl::QuadricRenderer`) with 32-bit float accumulation targets by
+//    default: with 16-bit ones the blended ray parameter sum(w lambda) / sum(w) carries half-float
+//    rounding, about 2^-11 lambda, which is more than the fit's error at E = 1e-3.
 //  - The mesh simplified by CGAL's edge collapse (bench_slim_cgal.hpp; Lindstrom-Turk) to the
 //    edge count whose error, measured as below, is closest to the SLIM surface's RMS error
 //    (bisection on the logarithm of the edge count, each candidate collapsed from the original
@@ -59,6 +61,7 @@ struct SlimBenchOptions {
     std::vector<double> errors{4e-3, 2e-3, 1e-3};
     std::size_t samples = 0;          ///< oriented samples per mesh (0: slim::read_points' default)
     int frames = 5, width = 1024, height = 768, threads = 0, steps = 8;
+    int slim_bits = 32;               ///< accumulation targets of the SLIM renderer
     std::string plot = "slim";
     std::string png;                  ///< PREFIX of the pictures ("": none)
 };
@@ -117,7 +120,10 @@ scene::Camera bench_camera(const Vec3<double>& lo, const Vec3<double>& hi) {
 /// The distance statistics of an approximation against the original mesh (see the top).
 struct Distance {
     long measured = 0, only_approx = 0, only_mesh = 0;
-    double rms = 0, max = 0;  ///< relative to the diagonal
+    double rms = 0, max = 0, median = 0;  ///< relative to the diagonal
+    /// The distance per pixel (window order), -1 where only the approximation is hit, -2 where only
+    /// the mesh, NaN where neither.
+    std::vector<float> per_pixel;
 };
 
 Distance measure(const LambdaImage& approx, const render::Camera& cam, const render::FrameTransform& to_frame, const LambdaImage& reference,
@@ -127,8 +133,11 @@ Distance measure(const LambdaImage& approx, const render::Camera& cam, const ren
     struct Acc {
         long measured = 0, only_approx = 0, only_mesh = 0;
         double sum2 = 0, max = 0;
+        std::vector<double> all;
     };
     std::vector<Acc> per(static_cast<std::size_t>(n_threads));
+    Distance out;
+    out.per_pixel.assign(approx.lambda.size(), std::numeric_limits<float>::quiet_NaN());
     render::cpu_detail::parallel_for(approx.height, n_threads, [&](int y, int th) {
         Acc& a = per[static_cast<std::size_t>(th)];
         for (int x = 0; x < approx.width; ++x) {
@@ -136,6 +145,7 @@ Distance measure(const LambdaImage& approx, const render::Camera& cam, const ren
             const bool hit = !std::isnan(approx.lambda[i]), ref = !std::isnan(reference.lambda[i]);
             if (hit != ref) {
                 ++(hit ? a.only_approx : a.only_mesh);
+                out.per_pixel[i] = hit ? -1.0f : -2.0f;
                 continue;
             }
             if (!hit) continue;
@@ -145,13 +155,16 @@ Distance measure(const LambdaImage& approx, const render::Camera& cam, const ren
                 p[k] = to_frame.offset[k] + to_frame.scale * (double(ray.origin[k]) + double(approx.lambda[i]) * double(ray.dir[k]));
             const double d = mesh.distance(p) / diagonal;
             ++a.measured;
+            out.per_pixel[i] = float(d);
+            a.all.push_back(d);
             a.sum2 += d * d;
             a.max = std::max(a.max, d);
         }
     });
-    Distance out;
     double sum2 = 0;
+    std::vector<double> all;
     for (const Acc& a : per) {
+        all.insert(all.end(), a.all.begin(), a.all.end());
         out.measured += a.measured;
         out.only_approx += a.only_approx;
         out.only_mesh += a.only_mesh;
@@ -159,7 +172,33 @@ Distance measure(const LambdaImage& approx, const render::Camera& cam, const ren
         out.max = std::max(out.max, a.max);
     }
     out.rms = out.measured ? std::sqrt(sum2 / double(out.measured)) : std::numeric_limits<double>::quiet_NaN();
+    out.median = median(std::move(all));
     return out;
+}
+
+/// A picture of `Distance::per_pixel`: white where neither is hit, blue where only the
+/// approximation is, green where only the mesh is; the distance d from light grey (0) to red
+/// (d >= `full`).
+render::Image error_map(const Distance& d, int width, int height, double full) {
+    render::Image img;
+    img.width = width;
+    img.height = height;
+    img.rgba.assign(std::size_t(width) * height * 4, 255);
+    img.depth.assign(std::size_t(width) * height, 1.0f);
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            const float v = d.per_pixel[std::size_t(y) * width + x];
+            std::uint8_t* px = &img.rgba[(std::size_t(height - 1 - y) * width + x) * 4];
+            if (std::isnan(v)) continue;
+            if (v == -1.0f) px[0] = 0, px[1] = 0, px[2] = 255;
+            else if (v == -2.0f) px[0] = 0, px[1] = 160, px[2] = 0;
+            else {
+                const double t = std::min(1.0, double(v) / full);
+                px[0] = std::uint8_t(std::lround(200 + 55 * t));
+                px[1] = px[2] = std::uint8_t(std::lround(200 * (1 - t)));
+            }
+        }
+    return img;
 }
 
 /// One GL mesh renderer with its mesh.
@@ -226,8 +265,8 @@ void run_bench_slim(const SlimBenchOptions& opt) {
     const unsigned hw = std::max(1u, std::thread::hardware_concurrency());
     gl::OsmesaContext ctx;
     std::printf("quadcast bench slim: %dx%d orthographic, view direction (0.35, 0.3, 1), %d timed rounds (median; every renderer one frame per round), "
-                "%u threads, %s\n",
-                opt.width, opt.height, opt.frames, opt.threads > 0 ? unsigned(opt.threads) : hw, ctx.info().renderer.c_str());
+                "%u threads, SLIM targets %d-bit float, %s\n",
+                opt.width, opt.height, opt.frames, opt.threads > 0 ? unsigned(opt.threads) : hw, opt.slim_bits, ctx.info().renderer.c_str());
     std::printf("error = distance of each pixel's hit point to the original mesh (CGAL AABB tree), over the pixels both hit, relative to the "
                 "bounding-box diagonal; the simplified mesh is CGAL's edge collapse (Lindstrom-Turk) to the edge count whose RMS error is "
                 "closest to the SLIM surface's\n");
@@ -280,13 +319,17 @@ void run_bench_slim(const SlimBenchOptions& opt) {
             row.frame = render::build_frame(s, opt.width, opt.height);
             row.quadrics = std::make_unique<gl::QuadricRenderer>(ctx.api());
             row.slim = std::make_unique<gl::SlimRenderer>(ctx.api());
+            row.slim->set_precision(opt.slim_bits);
             row.quadrics->set_primitives({});
             row.slim->set_balls(row.frame.slim_balls);
             row.quadrics->add_pass(*row.slim);
             row.quadrics->draw(row.frame.camera, row.frame.light, row.frame.options);
             const render::Image img = row.quadrics->read();
             row.dist = measure(lambda_from_depth(img, row.frame.camera), row.frame.camera, row.frame.transform, ref_lambda, tree, diagonal, opt.threads);
-            if (!opt.png.empty()) render::write_png(opt.png + "_" + mf.name + "_" + fmt("%g", e) + "_slim.png", img);
+            if (!opt.png.empty()) {
+                render::write_png(opt.png + "_" + mf.name + "_" + fmt("%g", e) + "_slim.png", img);
+                render::write_png(opt.png + "_" + mf.name + "_" + fmt("%g", e) + "_slim_error.png", error_map(row.dist, opt.width, opt.height, e));
+            }
             rows.push_back(std::move(row));
         }
 
@@ -320,6 +363,8 @@ void run_bench_slim(const SlimBenchOptions& opt) {
             if (!opt.png.empty()) {
                 row.mesh.r->draw(world.camera, world.light, mesh_options(world));
                 render::write_png(opt.png + "_" + mf.name + "_" + fmt("%g", row.error) + "_mesh.png", row.mesh.r->read());
+                render::write_png(opt.png + "_" + mf.name + "_" + fmt("%g", row.error) + "_mesh_error.png",
+                                  error_map(row.mesh_dist, opt.width, opt.height, row.error));
             }
         }
 
@@ -345,13 +390,13 @@ void run_bench_slim(const SlimBenchOptions& opt) {
         }
 
         std::printf("original mesh: %zu triangles, frame %.1f ms\n", original.triangles.size(), median(ref_ms));
-        std::printf("%-10s %7s %7s %7s %9s %9s %9s %9s | %9s %6s %9s %9s %9s %9s | %7s\n", "model", "E", "balls", "build s", "rms", "max", "px only",
-                    "frame ms", "triangles", "cand.", "rms", "max", "px only", "frame ms", "slim/mesh");
+        std::printf("%-10s %7s %6s %7s %8s %8s %8s %9s %8s | %9s %5s %8s %8s %8s %9s %8s | %7s\n", "model", "E", "balls", "build s", "median", "rms", "max",
+                    "px only", "frame ms", "triangles", "cand.", "median", "rms", "max", "px only", "frame ms", "slim/mesh");
         for (const SlimRow& r : rows) {
-            std::printf("%-10s %7.1e %7zu %7.2f %9.2e %9.2e %4ld/%-4ld %9.1f | %9zu %6d %9.2e %9.2e %4ld/%-4ld %9.1f | %7.2fx\n", mf.name.c_str(), r.error,
-                        r.stats.balls, r.stats.seconds, r.dist.rms, r.dist.max, r.dist.only_approx, r.dist.only_mesh, r.slim_ms, r.mesh.triangles,
-                        r.mesh_candidates, r.mesh_dist.rms, r.mesh_dist.max, r.mesh_dist.only_approx, r.mesh_dist.only_mesh, r.mesh_ms,
-                        r.slim_ms / r.mesh_ms);
+            std::printf("%-10s %7.1e %6zu %7.2f %8.2e %8.2e %8.2e %4ld/%-4ld %8.1f | %9zu %5d %8.2e %8.2e %8.2e %4ld/%-4ld %8.1f | %7.2fx\n", mf.name.c_str(),
+                        r.error, r.stats.balls, r.stats.seconds, r.dist.median, r.dist.rms, r.dist.max, r.dist.only_approx, r.dist.only_mesh, r.slim_ms,
+                        r.mesh.triangles, r.mesh_candidates, r.mesh_dist.median, r.mesh_dist.rms, r.mesh_dist.max, r.mesh_dist.only_approx,
+                        r.mesh_dist.only_mesh, r.mesh_ms, r.slim_ms / r.mesh_ms);
         }
         std::fflush(stdout);
 
@@ -393,6 +438,9 @@ void add_bench_slim(CLI::App& bench) {
     cmd->add_option("--frames", o->frames, "timed rounds (median)")->check(CLI::Range(1, 1000));
     cmd->add_option("--width", o->width, "image width")->check(CLI::Range(16, 8192));
     cmd->add_option("--height", o->height, "image height")->check(CLI::Range(16, 8192));
+    cmd->add_option("--slim-bits", o->slim_bits, "SLIM accumulation targets: 32 (RGBA32F, default) or 16 (RGBA16F: the blended depth then carries "
+                                                 "the half-float rounding of sum w lambda)")
+        ->check(CLI::IsMember({16, 32}));
     cmd->add_option("--threads", o->threads, "threads of the build and of the error measurement (0: all cores)");
     cmd->add_option("--steps", o->steps, "bisection steps of the simplified mesh's edge count")->check(CLI::Range(1, 40));
     cmd->add_option("--plot", o->plot, "write PREFIX_<model>.png: log-log RMS error vs frame time (\"\": no plot)");
