@@ -4,7 +4,8 @@ BUILD ?= build
 JOBS ?= $(shell nproc)
 DEB_PACKAGES := cmake g++ clang make pkg-config libeigen3-dev libglm-dev glslang-tools glslang-dev \
   doctest-dev libosmesa6-dev libcli11-dev nlohmann-json3-dev libtbb-dev libmpfrc++-dev libmpfr-dev \
-  libgmp-dev libbenchmark-dev libpng-dev nlohmann-json3-dev pymol-data zlib1g-dev libclang-rt-14-dev libgmsh-dev
+  libgmp-dev libbenchmark-dev libpng-dev nlohmann-json3-dev pymol-data zlib1g-dev libclang-rt-14-dev \
+  libcgal-dev libgmsh-dev
 DEMO_PACKAGES :=
 # `make bench-vtk` only: VTK 9 (the peer renderer), NumPy for its arrays, Xvfb for its display.
 BENCH_VTK_PACKAGES := python3-vtk9 python3-numpy xvfb xauth

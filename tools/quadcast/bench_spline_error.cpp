@@ -197,24 +197,6 @@ gl::OsmesaContext& gl_context() {
     return ctx;
 }
 
-/// λ per pixel from a GL window-depth image of the bench's orthographic camera (see
-/// bench_spline_error.hpp): λ = -z_view (`view_z_from_depth`); rows flipped to window order
-/// (y = 0 the bottom row).
-LambdaImage lambda_from_depth(const render::Image& img, const render::Camera& cam) {
-    LambdaImage out;
-    out.width = img.width;
-    out.height = img.height;
-    out.lambda.assign(img.depth.size(), no_hit);
-    const Vec4<double> pz = cast<double>(vec4(cam.projection[2][2], cam.projection[3][2], cam.projection[2][3], cam.projection[3][3]));
-    for (int y = 0; y < img.height; ++y)
-        for (int x = 0; x < img.width; ++x) {
-            const float d = img.depth[std::size_t(img.height - 1 - y) * img.width + x];
-            if (d >= 1.0f) continue;
-            out.lambda[std::size_t(y) * img.width + x] = float(-view_z_from_depth(double(d), pz));
-        }
-    return out;
-}
-
 ErrorMethod gl_volume_method(render::VolumeScheme scheme) {
     return {std::string(render::volume_scheme_name(scheme)) + "-gl", [scheme](const volume::VolumeData& v, float iso, unsigned threads) -> LambdaFrame {
                 struct State {
@@ -536,6 +518,21 @@ void run_spline_error(const SplineErrorOptions& opt) {
 }
 
 }  // namespace
+
+LambdaImage lambda_from_depth(const render::Image& img, const render::Camera& cam) {
+    LambdaImage out;
+    out.width = img.width;
+    out.height = img.height;
+    out.lambda.assign(img.depth.size(), no_hit);
+    const Vec4<double> pz = cast<double>(vec4(cam.projection[2][2], cam.projection[3][2], cam.projection[2][3], cam.projection[3][3]));
+    for (int y = 0; y < img.height; ++y)
+        for (int x = 0; x < img.width; ++x) {
+            const float d = img.depth[std::size_t(img.height - 1 - y) * img.width + x];
+            if (d >= 1.0f) continue;
+            out.lambda[std::size_t(y) * img.width + x] = float(-view_z_from_depth(double(d), pz));
+        }
+    return out;
+}
 
 std::vector<ErrorMethod> spline_error_methods() {
     std::vector<ErrorMethod> m{volume_method(render::VolumeScheme::qss), volume_method(render::VolumeScheme::s31),

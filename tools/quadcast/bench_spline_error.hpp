@@ -28,6 +28,11 @@ struct LambdaImage {
     std::vector<float> lambda;
 };
 
+/// λ per pixel from a GL window-depth image (`render::Image::depth`, rows top first, 1 = no hit) of
+/// an orthographic camera: λ = -z_view (`view_z_from_depth`), NaN where nothing was hit; rows
+/// flipped to window order (y = 0 the bottom row). `quadcast bench slim` uses it too.
+LambdaImage lambda_from_depth(const render::Image& img, const render::Camera& cam);
+
 /// Renders the λ image of the prepared data for a camera and image size.
 using LambdaFrame = std::function<LambdaImage(const render::Camera& camera, int width, int height)>;
 

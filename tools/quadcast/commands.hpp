@@ -27,6 +27,9 @@ void add_bench_spline_error(CLI::App& bench);
 /// `quadcast bench spline-preprocess`: determining sets, coefficient ranges, octree and memory per
 /// data set (the shape of Kalbe & Zeilfelder 2008, Table 1).
 void add_bench_spline_preprocess(CLI::App& bench);
+/// `quadcast bench slim`: SLIM surfaces against CGAL-simplified meshes of the same error along
+/// camera rays: build time, balls, error, GL frame time (bench_slim.cpp).
+void add_bench_slim(CLI::App& bench);
 
 /// `quadcast bench isosurfaces`: GL isosurfaces (QSS, S31, trilinear) against the CPU reference,
 /// and what the octree, frustum and per-tetrahedron culling skip.

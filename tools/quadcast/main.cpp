@@ -21,6 +21,7 @@ int main(int argc, char** argv) {
     quadcast::cli::add_bench_spline_error(*bench);
     quadcast::cli::add_bench_spline_preprocess(*bench);
     quadcast::cli::add_bench_isosurfaces(*bench);
+    quadcast::cli::add_bench_slim(*bench);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
