@@ -104,6 +104,8 @@ public:
         api.GenBuffers(1, &commands_);
         api.GenBuffers(1, &keep_);
         api.GenBuffers(1, &groups_);
+        api.GenBuffers(1, &corners_);
+        api.GenBuffers(1, &nearests_);
     }
     ~Impl() {
         if (etex_) api_->DeleteTextures(1, &etex_);
@@ -118,6 +120,8 @@ public:
         api_->DeleteBuffers(1, &commands_);
         api_->DeleteBuffers(1, &keep_);
         api_->DeleteBuffers(1, &groups_);
+        api_->DeleteBuffers(1, &corners_);
+        api_->DeleteBuffers(1, &nearests_);
         api_->DeleteVertexArrays(1, &vao_);
         if (query_) api_->DeleteQueries(1, &query_);
         if (fs_query_) api_->DeleteQueries(1, &fs_query_);
@@ -140,6 +144,7 @@ public:
     void set_depth_test(bool on) { depth_test_ = on; }
     void set_slab_quads(bool on) { slab_quads_ = on; }
     void set_early_discard(bool on) { early_discard_ = on; }
+    void set_compute_bounds(bool on) { compute_bounds_ = on; }
     /// Samples that passed (GL_SAMPLES_PASSED) in the primitive pass of the last `draw`.
     std::uint64_t samples_passed() const { return samples_passed_; }
     /// Count fragment-shader invocations of the primitive pass (GL_ARB_pipeline_statistics_query,
@@ -317,7 +322,7 @@ public:
             GLuint& q = cull_queries_[cull_queries_used_++];
             if (!q) gl.GenQueries(1, &q);
             gl.BeginQuery(GL_TIME_ELAPSED, q);
-            run_cull_pass(cam, viewport[2], viewport[3]);
+            run_cull_pass(cam, opt, viewport[2], viewport[3]);
             gl.EndQuery(GL_TIME_ELAPSED);
             // Read now: the indirect draws wait for the cull pass anyway, and llvmpipe's elapsed
             // time read after the frame also counted the draws queued behind it.
@@ -336,21 +341,21 @@ public:
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, visible_);
         if (cull_pass) {
             gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, depths_);
+            if (compute_bounds_) {
+                gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, corners_);
+                gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 9, nearests_);
+            }
             gl.BindBuffer(GL_DRAW_INDIRECT_BUFFER, commands_);
         }
         for (int v = 0; v < render::variant_count; ++v) {
             if (ranges_[v].second == 0) continue;
             const auto variant = static_cast<render::Variant>(v);
-            const bool cull = render::cast_options(variant, opt.culling).cull;
             const Program& prog = program(variant, opt.culling, cam.orthographic, deferred, opt.environment != nullptr);
             gl.UseProgram(prog.id());
             set_uniforms(prog, cam, light, opt, viewport[2], viewport[3]);
-            gl.Uniform1i(prog.uniform_location("qc_bound"), opt.tight_bounds ? static_cast<int>(render::rect_bound(variant)) : 0);
-            gl.Uniform1i(prog.uniform_location("qc_slab_quad"), slab_quads_ ? 1 : 0);
-            gl.Uniform1i(prog.uniform_location("qc_cull"), cull && !cam.orthographic ? 1 : 0);
-            gl.Uniform1ui(prog.uniform_location("qc_first"), ranges_[v].first);
-            gl.Uniform1i(prog.uniform_location("qc_caps"), variant == render::Variant::slab ? 1 : 0);
+            set_bound_uniforms(prog, variant, cam, opt);
             gl.Uniform1i(prog.uniform_location("qc_indirect"), cull_pass ? 1 : 0);
+            gl.Uniform1i(prog.uniform_location("qc_fetch"), cull_pass && compute_bounds_ ? 1 : 0);
             // Not the planes variant (a patch may reach out of its bounding sphere inside its quad),
             // nor the sphere variant, whose cast costs about what the test does (bench spheres: 0.85-0.99x).
             const bool early = cull_pass && early_discard_ && variant != render::Variant::planes && variant != render::Variant::sphere;
@@ -364,6 +369,8 @@ public:
         if (cull_pass) gl.BindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, 0);
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, 0);
+        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, 0);
+        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 9, 0);
         gl.BindTextureUnit(4, 0);
         for (ScenePass* p : passes_) p->draw(cam, light, opt, deferred);
         gl.Disable(GL_DEPTH_CLAMP);
@@ -388,8 +395,9 @@ private:
     /// viewport: the occluders' disks into the depth image, the max-depth pyramid over it, then
     /// per variant the test of every record, then the kept ones in record order into the visible
     /// list and the variant's indirect draw command {6 n, 1, 0, 4 first, 0} (the vertex stage
-    /// reads slot first + i).
-    void run_cull_pass(const render::Camera& cam, int width, int height) {
+    /// reads slot first + i); with `set_compute_bounds`, then each slot's corners and nearest
+    /// distance (the variant's vertex stage's uniforms from `opt`).
+    void run_cull_pass(const render::Camera& cam, const render::RenderOptions& opt, int width, int height) {
         const Api& gl = *api_;
         const auto w = static_cast<std::uint32_t>(width), h = static_cast<std::uint32_t>(height);
         // Pyramid levels down to 1 x 1, level 0 the viewport.
@@ -492,6 +500,18 @@ private:
         // order into the visible list (each variant's workgroup counts from its own offset).
         const Program& scan = programs_.get(render::OcclusionKey{render::OcclusionPass::scan});
         const Program& compact = programs_.get(render::OcclusionKey{render::OcclusionPass::compact});
+        if (compute_bounds_) {
+            if (count_ > bounds_capacity_) {  // grown only; 4 clip positions and 1 distance per slot
+                api_->BindBuffer(GL_SHADER_STORAGE_BUFFER, corners_);
+                api_->BufferData(GL_SHADER_STORAGE_BUFFER, static_cast<GLsizeiptr>(count_ * 16 * sizeof(float)), nullptr, GL_DYNAMIC_DRAW);
+                api_->BindBuffer(GL_SHADER_STORAGE_BUFFER, nearests_);
+                api_->BufferData(GL_SHADER_STORAGE_BUFFER, static_cast<GLsizeiptr>(count_ * sizeof(float)), nullptr, GL_DYNAMIC_DRAW);
+                api_->BindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
+                bounds_capacity_ = count_;
+            }
+            gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, corners_);
+            gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 9, nearests_);
+        }
         for (int v = 0; v < render::variant_count; ++v) {
             if (ranges_[v].second == 0) continue;
             const GLintptr at = static_cast<GLintptr>(group_base[v] * sizeof(std::uint32_t));
@@ -507,8 +527,36 @@ private:
             gl.Uniform1ui(compact.uniform_location("qc_count"), ranges_[v].second);
             gl.DispatchCompute(groups(ranges_[v].second, 64), 1, 1);
         }
+        // 6. With compute bounds, per variant one invocation per slot of its visible list (those
+        // beyond its count return at once).
+        if (compute_bounds_) {
+            gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+            for (int v = 0; v < render::variant_count; ++v) {
+                if (ranges_[v].second == 0) continue;
+                const auto variant = static_cast<render::Variant>(v);
+                const Program& bounds = programs_.get(
+                    render::OcclusionKey{render::OcclusionPass::bounds, render::fragment_shape(variant) == render::FragmentShape::sphere, cam.orthographic});
+                gl.UseProgram(bounds.id());
+                detail::set_camera_uniforms(gl, bounds, cam, width, height);
+                set_bound_uniforms(bounds, variant, cam, opt);
+                gl.Uniform1ui(bounds.uniform_location("qc_command_at"), static_cast<GLuint>(5 * v));
+                gl.DispatchCompute(groups(ranges_[v].second, 64), 1, 1);
+            }
+        }
         gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
-        for (int b = 2; b <= 7; ++b) gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, static_cast<GLuint>(b), 0);
+        for (int b = 2; b <= 9; ++b) gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, static_cast<GLuint>(b), 0);
+    }
+
+    /// The uniforms of a variant's bounding geometry and per-quadric culling, the same for its
+    /// vertex stage and for the cull pass that computes them for it (`set_compute_bounds`).
+    void set_bound_uniforms(const Program& prog, render::Variant variant, const render::Camera& cam, const render::RenderOptions& opt) const {
+        const Api& gl = *api_;
+        const bool cull = render::cast_options(variant, opt.culling).cull;
+        gl.Uniform1i(prog.uniform_location("qc_bound"), opt.tight_bounds ? static_cast<int>(render::rect_bound(variant)) : 0);
+        gl.Uniform1i(prog.uniform_location("qc_slab_quad"), slab_quads_ ? 1 : 0);
+        gl.Uniform1i(prog.uniform_location("qc_cull"), cull && !cam.orthographic ? 1 : 0);
+        gl.Uniform1ui(prog.uniform_location("qc_first"), ranges_[static_cast<int>(variant)].first);
+        gl.Uniform1i(prog.uniform_location("qc_caps"), variant == render::Variant::slab ? 1 : 0);
     }
 
     /// The program of variant `v`: forward (with `env`, environment reflection) or, with
@@ -675,6 +723,8 @@ private:
     GLuint sfbo_ = 0, stex_ = 0;             ///< shadow map
     GLuint etex_ = 0;                        ///< environment map
     GLuint occluders_ = 0, depths_ = 0, visible_ = 0, commands_ = 0, keep_ = 0, groups_ = 0;  ///< occlusion culling
+    GLuint corners_ = 0, nearests_ = 0;  ///< per slot of the visible list: 4 clip positions, the nearest distance
+    std::size_t bounds_capacity_ = 0;    ///< slots corners_ and nearests_ hold
     std::uint32_t group_capacity_ = 0;
     GLuint cull_queries_[2] = {0, 0};
     int cull_queries_used_ = 0;
@@ -693,6 +743,7 @@ private:
     bool depth_test_ = true;
     bool slab_quads_ = true;
     bool early_discard_ = true;
+    bool compute_bounds_ = false;  ///< off by default: it did not pay on llvmpipe (bench spheres, 'comp')
     GLuint query_ = 0, fs_query_ = 0;
     std::uint64_t samples_passed_ = 0, fragment_invocations_ = 0;
     bool count_fragments_ = false;
@@ -705,6 +756,7 @@ QuadricRenderer::FragmentStage QuadricRenderer::fragment_stage() const { return 
 void QuadricRenderer::set_depth_test(bool on) { impl_->set_depth_test(on); }
 void QuadricRenderer::set_slab_quads(bool on) { impl_->set_slab_quads(on); }
 void QuadricRenderer::set_early_discard(bool on) { impl_->set_early_discard(on); }
+void QuadricRenderer::set_compute_bounds(bool on) { impl_->set_compute_bounds(on); }
 std::uint64_t QuadricRenderer::samples_passed() const { return impl_->samples_passed(); }
 void QuadricRenderer::set_count_fragments(bool on) { impl_->set_count_fragments(on); }
 std::uint64_t QuadricRenderer::fragment_invocations() const { return impl_->fragment_invocations(); }

@@ -181,6 +181,7 @@ private:
         gl.Uniform1ui(p.uniform_location("qc_first"), 0);
         gl.Uniform1i(p.uniform_location("qc_caps"), 0);
         gl.Uniform1i(p.uniform_location("qc_indirect"), 0);
+        gl.Uniform1i(p.uniform_location("qc_fetch"), 0);
         gl.DrawElements(GL_TRIANGLES, static_cast<GLsizei>(6 * count_), GL_UNSIGNED_INT, nullptr);
     }
 

@@ -44,15 +44,17 @@ const char* environment_uniforms =
     "layout(binding = 4) uniform sampler2D qc_environment;  // latitude-longitude RGBA32F, row 0 = straight up\n"
     "uniform float qc_reflectivity;\n";
 
-/// The bounding geometry of one primitive, shared by both vertex stages: with `qc_bound` 1 or 2
+/// The bounding geometry of one primitive, shared by both vertex stages and the compute pass that
+/// writes it for them (`all_corners`): with `qc_bound` 1 or 2
 /// (quadcast::RectBound of the variant; general variants only) the NDC rectangle
 /// `primitive_rect_ellipsoid` (corners (lo, lo), (hi, lo), (hi, hi), (lo, hi), at w = 1) or the
 /// quadrilateral `primitive_quad_slab` (turned to the projected axis; with `qc_slab_quad`, else
 /// the rectangle `primitive_rect_slab`) when it is tight;
 /// otherwise, and with `qc_bound` 0 (sphere-bound variants, or tight bounds off), the quad around
 /// the bounding sphere (`primitive_bound_*`, the near-plane rectangle when the eye is inside the
-/// sphere).
-std::string bound_glsl(const std::string& proj, bool rects) {
+/// sphere). The vertex stage picks corner k into `clip`; with `all_corners` the four corners go
+/// into `clips[k]`, from the same kernels' same outputs.
+std::string bound_glsl(const std::string& proj, bool rects, bool all_corners = false) {
     std::ostringstream m;
     m << "    vec2 lo, hi;\n    bool tight = false, visible = true;\n";
     if (rects)
@@ -63,6 +65,24 @@ std::string bound_glsl(const std::string& proj, bool rects) {
              "    vec2 qd[4];\n"
              "    if (qc_bound == 2 && qc_slab_quad)\n"
              "        qc_primitive_quad_slab(qc_view_projection, q, qc_record_center(p), qc_record_radius(p), qc_record_axis(p), qc_record_half_length(p), qc_viewport, qd[0], qd[1], qd[2], qd[3], tight, visible);\n";
+    // The sphere's quad, when it is used: its four view-space corners (the near-plane rectangle where not valid).
+    const std::string sphere_quad = std::string("        vec3 c0, c1, c2, c3;\n        bool valid;\n"
+         "        qc_primitive_bound_") + proj + "(qc_view, qc_record_center(p), qc_record_radius(p), c0, c1, c2, c3, valid);\n"
+         "        vec3 corners[4] = vec3[4](c0, c1, c2, c3);\n";
+    if (all_corners) {
+        m << "    vec4 clips[4];\n";
+        if (rects)
+            m << "    if (tight && qc_bound == 2 && qc_slab_quad) {\n"
+                 "        for (int k = 0; k < 4; ++k) clips[k] = vec4(qd[k], 0.0, 1.0);\n"
+                 "    } else if (tight) {\n";
+        else
+            m << "    if (tight) {\n";
+        m << "        for (int k = 0; k < 4; ++k) clips[k] = vec4(k == 1 || k == 2 ? hi.x : lo.x, k >= 2 ? hi.y : lo.y, 0.0, 1.0);\n"
+             "    } else {\n" << sphere_quad
+          << "        for (int k = 0; k < 4; ++k) qc_clip_position(qc_projection, valid ? corners[k] : qc_near_corners[k], clips[k]);\n"
+             "    }\n";
+        return m.str();
+    }
     m << "    vec4 clip;\n";
     if (rects)
         m << "    if (tight && qc_bound == 2 && qc_slab_quad) {\n"
@@ -71,11 +91,8 @@ std::string bound_glsl(const std::string& proj, bool rects) {
     else
         m << "    if (tight) {\n";
     m << "        clip = vec4(k == 1 || k == 2 ? hi.x : lo.x, k >= 2 ? hi.y : lo.y, 0.0, 1.0);\n"
-         "    } else {\n"
-         "        vec3 c0, c1, c2, c3;\n        bool valid;\n"
-         "        qc_primitive_bound_" << proj << "(qc_view, qc_record_center(p), qc_record_radius(p), c0, c1, c2, c3, valid);\n"
-         "        vec3 corners[4] = vec3[4](c0, c1, c2, c3);\n"
-         "        qc_clip_position(qc_projection, valid ? corners[k] : qc_near_corners[k], clip);\n"
+         "    } else {\n" << sphere_quad
+      << "        qc_clip_position(qc_projection, valid ? corners[k] : qc_near_corners[k], clip);\n"
          "    }\n";
     return m.str();
 }
@@ -93,6 +110,14 @@ const char* bound_uniforms =
 const char* visible_glsl =
     "layout(std430, binding = 4) readonly buffer qc_Visible { uint qc_visible[]; };\n"
     "uniform bool qc_indirect;\n\n";
+
+/// What the cull pass's compaction (OcclusionPass::bounds) writes per slot of the visible list:
+/// the clip positions of the primitive's four corners and its nearest view distance, read by both
+/// vertex stages when `qc_fetch` is set (the draw is indirect and those were written for it).
+const char* fetched_bounds_glsl =
+    "layout(std430, binding = 8) readonly buffer qc_Corners { vec4 qc_corner[]; };     // 4 per slot\n"
+    "layout(std430, binding = 9) readonly buffer qc_Nearests { float qc_nearests[]; };  // 1 per slot\n"
+    "uniform bool qc_fetch;\n\n";
 
 /// The vertex stage of the general variants: the bounding geometry (`bound_glsl`) and per-quadric
 /// culling (`primitive_cull`, perspective cameras).
@@ -113,14 +138,20 @@ Stage vertex_shader(bool ortho) {
          "uniform vec3 qc_eye;\nuniform bool qc_cull;\nuniform bool qc_caps;   // the variant closes a slab with caps\n\n"
          "flat out uint qc_prim;\nflat out float qc_nearest;  // nearest view distance of the bounding sphere (the fragment stage's occlusion test)\n\n";
     m << fns.str();
-    m << visible_glsl;
+    m << visible_glsl << fetched_bounds_glsl;
     m << "// Indexed draw: vertex 4 i + k is corner k of primitive qc_first + i (two triangles share two);\n"
          "// with qc_indirect (occlusion culling) of the visible primitive in slot i (the draw's base vertex\n"
-         "// is 4 qc_first).\n"
+         "// is 4 qc_first); with qc_fetch the corner and the nearest distance the cull pass wrote for slot i.\n"
          "void main()\n{\n"
          "    uint slot = uint(gl_VertexID) / 4u;\n"
          "    uint prim = qc_indirect ? qc_visible[slot] : qc_first + slot;\n"
          "    int k = gl_VertexID % 4;\n"
+         "    qc_prim = prim;\n"
+         "    if (qc_fetch) {\n"
+         "        qc_nearest = qc_nearests[slot];\n"
+         "        gl_Position = qc_corner[4u * slot + uint(k)];\n"
+         "        return;\n"
+         "    }\n"
          "    qc_Primitive p = qc_prims[prim];\n"
          "    mat4 q = qc_record_quadric(p);\n"
       << bound_glsl(proj, true)
@@ -129,7 +160,6 @@ Stage vertex_shader(bool ortho) {
         m << "    if (qc_cull)\n"
              "        qc_primitive_cull(q, qc_record_center(p), qc_record_radius(p), qc_record_axis(p), qc_record_half_length(p), qc_eye, culled, culled_caps);\n";
     m << "    qc_nearest_distance(qc_vz_row, qc_vz_t, qc_record_center(p), qc_record_radius(p), qc_nearest);\n"
-         "    qc_prim = prim;\n"
          "    gl_Position = (qc_cull && (qc_caps ? culled_caps : culled)) ? vec4(2.0, 2.0, 2.0, 1.0) : clip;\n"
          "}\n";
     s.text = m.str();
@@ -152,21 +182,26 @@ Stage sphere_vertex_shader(bool ortho) {
          "flat out float qc_nearest;  // nearest view distance of the sphere (the fragment stage's occlusion test)\n"
          "flat out float qc_radius;\nflat out vec3 qc_center;\nflat out vec3 qc_prim_color;\nflat out vec2 qc_prim_material;  // specular, shininess\n\n";
     m << fns.str();
-    m << visible_glsl;
+    m << visible_glsl << fetched_bounds_glsl;
     m << "// Indexed draw: vertex 4 i + k is corner k of primitive qc_first + i (two triangles share two);\n"
          "// with qc_indirect (occlusion culling) of the visible primitive in slot i (the draw's base vertex\n"
-         "// is 4 qc_first).\n"
+         "// is 4 qc_first); with qc_fetch the corner and the nearest distance the cull pass wrote for slot i.\n"
          "void main()\n{\n"
          "    uint slot = uint(gl_VertexID) / 4u;\n"
          "    uint prim = qc_indirect ? qc_visible[slot] : qc_first + slot;\n"
          "    int k = gl_VertexID % 4;\n"
          "    qc_Primitive p = qc_prims[prim];\n"
-      << bound_glsl(proj, false)
-      << "    qc_nearest_distance(qc_vz_row, qc_vz_t, qc_record_center(p), qc_record_radius(p), qc_nearest);\n"
          "    qc_radius = qc_record_radius(p);\n"
          "    qc_center = qc_record_center(p);\n"
          "    qc_prim_color = qc_record_color(p);\n"
          "    qc_prim_material = qc_record_material(p);\n"
+         "    if (qc_fetch) {\n"
+         "        qc_nearest = qc_nearests[slot];\n"
+         "        gl_Position = qc_corner[4u * slot + uint(k)];\n"
+         "        return;\n"
+         "    }\n"
+      << bound_glsl(proj, false)
+      << "    qc_nearest_distance(qc_vz_row, qc_vz_t, qc_record_center(p), qc_record_radius(p), qc_nearest);\n"
          "    gl_Position = clip;\n"
          "}\n";
     s.text = m.str();
@@ -584,6 +619,60 @@ const char* compact_shader =
     "    if (k != 0u) qc_visible[qc_first + qc_groups[gl_WorkGroupID.x] + k - 1u] = qc_first + i;\n"
     "}\n";
 
+/// Occlusion pass 6, the vertex stage's per-primitive work (OcclusionPass::bounds), one invocation
+/// per slot of a variant's visible list (its count from the variant's indirect command): for the
+/// primitive in the slot, what the vertex stage of its variant (`sphere`: the sphere-specialised
+/// one) computes per primitive from the same traced kernels -- the clip positions of its four
+/// corners (`bound_glsl`; the general stage's per-quadric culling, perspective cameras, moves a
+/// culled primitive's corners off screen as that stage does) and its nearest view distance
+/// (`nearest_distance`). Run on all threads for the kept primitives only, packed; the vertex stage
+/// then fetches (`qc_fetch`).
+Stage bounds_shader(bool sphere, bool ortho) {
+    Stage s;
+    std::ostringstream fns;
+    const std::string proj = ortho ? "ortho" : "perspective";
+    if (!sphere) {
+        add_kernel(s, fns, "primitive_rect_ellipsoid");
+        add_kernel(s, fns, "primitive_rect_slab");
+        add_kernel(s, fns, "primitive_quad_slab");
+    }
+    add_kernel(s, fns, "primitive_bound_" + proj);
+    add_kernel(s, fns, "clip_position");
+    if (!sphere && !ortho) add_kernel(s, fns, "primitive_cull");
+    add_kernel(s, fns, "nearest_distance");
+    std::ostringstream m;
+    m << "layout(local_size_x = 64) in;\n\n" << record_glsl << bound_uniforms
+      << "layout(std430, binding = 4) readonly buffer qc_Visible { uint qc_visible[]; };\n"
+         "layout(std430, binding = 5) readonly buffer qc_Commands { uint qc_command[]; };\n"
+         "layout(std430, binding = 8) writeonly buffer qc_Corners { vec4 qc_corner[]; };     // 4 per slot\n"
+         "layout(std430, binding = 9) writeonly buffer qc_Nearests { float qc_nearests[]; };  // 1 per slot\n"
+         "uniform uint qc_command_at;  // the variant's command (uint offset): 6 indices per kept primitive\n";
+    if (!sphere)
+        m << "uniform bool qc_slab_quad;        // slab bounds: the quadrilateral along the axis, else the rectangle\n"
+             "uniform vec3 qc_eye;\nuniform bool qc_cull;\nuniform bool qc_caps;   // the variant closes a slab with caps\n";
+    m << "\n" << fns.str()
+      << "void main()\n{\n"
+         "    uint i = gl_GlobalInvocationID.x;\n"
+         "    if (i >= qc_command[qc_command_at] / 6u) return;\n"
+         "    uint slot = qc_first + i;\n"
+         "    qc_Primitive p = qc_prims[qc_visible[slot]];\n";
+    if (!sphere) m << "    mat4 q = qc_record_quadric(p);\n";
+    m << bound_glsl(proj, !sphere, true);
+    if (!sphere && !ortho)
+        m << "    bool culled = false, culled_caps = false;\n"
+             "    if (qc_cull)\n"
+             "        qc_primitive_cull(q, qc_record_center(p), qc_record_radius(p), qc_record_axis(p), qc_record_half_length(p), qc_eye, culled, culled_caps);\n"
+             "    if (qc_cull && (qc_caps ? culled_caps : culled))\n"
+             "        for (int k = 0; k < 4; ++k) clips[k] = vec4(2.0, 2.0, 2.0, 1.0);\n";
+    m << "    float nearest;\n"
+         "    qc_nearest_distance(qc_vz_row, qc_vz_t, qc_record_center(p), qc_record_radius(p), nearest);\n"
+         "    for (int k = 0; k < 4; ++k) qc_corner[4u * slot + uint(k)] = clips[k];\n"
+         "    qc_nearests[slot] = nearest;\n"
+         "}\n";
+    s.text = m.str();
+    return s;
+}
+
 }  // namespace
 
 StageText occlusion_stage(const render::OcclusionKey& k) {
@@ -604,6 +693,13 @@ StageText occlusion_stage(const render::OcclusionKey& k) {
         Stage p;
         p.text = compact_shader;
         return stage_text(StageText::Kind::compute, "qc_compact.comp", p, "occlusion culling: the kept records in order into the visible list");
+    }
+    case render::OcclusionPass::bounds: {
+        const std::string proj = k.ortho ? "ortho" : "perspective";
+        return stage_text(StageText::Kind::compute, std::string("qc_cull_bounds_") + (k.sphere ? "sphere_" : "quadric_") + proj + ".comp",
+                          bounds_shader(k.sphere, k.ortho),
+                          std::string("occlusion culling: per kept primitive the ") + (k.sphere ? "sphere variant's" : "general") +
+                              " vertex stage's corners and nearest distance, " + proj + " camera");
     }
     case render::OcclusionPass::cull:
         break;

@@ -1,6 +1,7 @@
 // tests/gl/test_occlusion_gl.cpp -- the occlusion cull pass changes no pixel (forward, deferred,
-// shadows and outlines, culling on and off, perspective and orthographic, eye inside bounds, near
-// and far planes through occluders), and it culls what is hidden or off screen
+// shadows and outlines, culling on and off, tight bounds off, slab rectangles, perspective and
+// orthographic, eye inside bounds, near and far planes through occluders; the survivors' corners
+// from the vertex stage or from a compute pass), and it culls what is hidden or off screen
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -113,31 +114,44 @@ TEST_CASE("the occlusion cull pass changes no pixel of the GL renderer") {
     light.direction = vec3(-0.4f, -0.6f, -1.0f);
     for (const Case& s : occlusion_cases(w, h)) {
         r.set_primitives(s.prims);
-        for (int mode = 0; mode < 4; ++mode) {
+        for (int mode = 0; mode < 6; ++mode) {
             RenderOptions o;
             o.width = w;
             o.height = h;
             o.culling = mode != 1;
             o.deferred = mode == 2;
             o.shadows = o.silhouettes = mode == 3;
+            o.tight_bounds = mode != 4;
+            r.set_slab_quads(mode != 5);
             o.occlusion_culling = true;
             r.draw(s.camera, light, o);
             const Image culled = r.read();
             const std::size_t drawn = r.drawn_primitives();
+            // The survivors' corners computed by a compute pass instead of their vertex stage
+            r.set_compute_bounds(true);
+            r.draw(s.camera, light, o);
+            const Image culled_compute = r.read();  // (its count of kept primitives may differ: occluder stores race)
+            r.set_compute_bounds(false);
             o.occlusion_culling = false;
             r.draw(s.camera, light, o);
             const Image all = r.read();
+            r.set_slab_quads(true);
             CHECK(r.drawn_primitives() == s.prims.size());
             const ImageDiff d = image_diff(culled, all);
-            const char* what = mode == 0 ? "forward" : mode == 1 ? "culling off" : mode == 2 ? "deferred" : "shadows + outlines";
-            std::printf("[occlusion] %s, %s: %ld covered px, %ld coverage / %ld colour / %ld depth differences; %zu of %zu primitives drawn\n", s.name.c_str(),
-                        what, d.covered, d.coverage_diff, d.color_diff, d.depth_diff, drawn, s.prims.size());
+            const ImageDiff dv = image_diff(culled_compute, all);
+            const char* what = mode == 0 ? "forward" : mode == 1 ? "culling off" : mode == 2 ? "deferred" : mode == 3 ? "shadows + outlines"
+                             : mode == 4 ? "tight bounds off" : "slab rectangles";
+            std::printf("[occlusion] %s, %s: %ld covered px, %ld coverage / %ld colour / %ld depth differences (corners from a compute pass: %ld / %ld / %ld); %zu of %zu primitives drawn\n",
+                        s.name.c_str(), what, d.covered, d.coverage_diff, d.color_diff, d.depth_diff, dv.coverage_diff, dv.color_diff, dv.depth_diff, drawn, s.prims.size());
             CAPTURE(s.name);
             CAPTURE(what);
             CHECK(d.covered > 300);
             CHECK(d.coverage_diff == 0);
             CHECK(d.color_diff == 0);
             CHECK(d.depth_diff == 0);
+            CHECK(dv.coverage_diff == 0);
+            CHECK(dv.color_diff == 0);
+            CHECK(dv.depth_diff == 0);
             CHECK(drawn <= s.prims.size());
             if (s.name == "dense block, perspective" || s.name == "dense block, orthographic") CHECK(drawn < s.prims.size() * 6 / 10);
         }

@@ -13,7 +13,9 @@
 // invocations of the real frame (GL_ARB_pipeline_statistics_query; llvmpipe counts 16 per 4x4
 // block it shades, so this is the work its fragment stage does). With
 // --compare (spheres) the general closed-quadric variant (Variant::ellipsoid, tight bounds on)
-// draws the same spheres too, interleaved, and its ratio to the sphere variant is printed.
+// draws the same spheres too, interleaved, and its ratio to the sphere variant is printed. The
+// cull pass is also timed with the kept primitives' corners computed by a compute pass instead of
+// the vertex stage ('comp', QuadricRenderer::set_compute_bounds), and that frame checked equal.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -93,12 +95,14 @@ void run_bounds_bench(const BoundsBenchOptions& o) {
                 "'cull': tight rectangles and the occlusion cull pass ('of it cp': the cull pass's GPU time); 'drawn': primitives the cull pass keeps;\nper covered pixel: fragments "
                 "rasterised ('rast') and fragment-shader invocations ('fs', llvmpipe: 16 per 4x4 block shaded)%s\n", o.frames,
                 o.sticks ? ";\n'rect': tight axis-aligned rectangles instead of the quadrilaterals, no cull pass" : "");
-    std::printf("'late': the cull pass without the fragment stage's early discard against the occluder depth image\n");
+    std::printf("'late': the cull pass without the fragment stage's early discard against the occluder depth image;\n"
+                "'comp': the cull pass with the kept primitives' corners computed by a compute pass on all threads, the vertex stage fetching them\n"
+                "(QuadricRenderer::set_compute_bounds; 'c of cp': its cull passes' GPU time; 'cull/comp' > 1: the compute pass pays)\n");
     std::printf("%10s %9s %8s %8s %8s %8s %10s %10s %7s %6s %6s %6s %7s %7s %7s", o.sticks ? "sticks" : "spheres", "covered", "quad ms", "tight ms", "cull ms", "of it cp",
                 "quad/cull", "tight/cull", "drawn", "q rast", "t rast", "c rast", "q fs", "t fs", "c fs");
-    std::printf(" %9s %11s", "late ms", "late/cull");
+    std::printf(" %9s %11s %9s %9s %11s", "late ms", "late/cull", "comp ms", "c of cp", "cull/comp");
     if (o.sticks) std::printf(" %8s %10s %7s", "rect ms", "rect/tight", "r rast");
-    if (o.compare) std::printf(" %16s %14s", "closed cull ms", "sphere/closed");
+    if (o.compare) std::printf(" %16s %14s %14s %15s", "closed cull ms", "sphere/closed", "closed comp ms", "cl. cull/comp");
     std::printf("\n");
     gl::QuadricRenderer r(ctx.api());
     std::unique_ptr<gl::QuadricRenderer> general;  // --compare: the closed-quadric variant
@@ -146,6 +150,16 @@ void run_bounds_bench(const BoundsBenchOptions& o) {
             img_diff += culled_img.depth[i] != tight_img.depth[i] || culled_img.rgba[4 * i] != tight_img.rgba[4 * i] ||
                         culled_img.rgba[4 * i + 1] != tight_img.rgba[4 * i + 1] || culled_img.rgba[4 * i + 2] != tight_img.rgba[4 * i + 2];
         if (img_diff) std::printf("WARNING: %ld pixels differ between the culled and the unculled frame\n", img_diff);
+        // Nor where the corners are computed: a compute pass's against the vertex stage's
+        r.set_compute_bounds(true);
+        r.draw(cam, light, modes[2]);
+        const render::Image comp_img = r.read();
+        r.set_compute_bounds(false);
+        long comp_diff = 0;
+        for (std::size_t i = 0; i < culled_img.depth.size(); ++i)
+            comp_diff += culled_img.depth[i] != comp_img.depth[i] || culled_img.rgba[4 * i] != comp_img.rgba[4 * i] ||
+                         culled_img.rgba[4 * i + 1] != comp_img.rgba[4 * i + 1] || culled_img.rgba[4 * i + 2] != comp_img.rgba[4 * i + 2];
+        if (comp_diff) std::printf("WARNING: %ld pixels differ between corners from the compute pass and from the vertex stage\n", comp_diff);
         r.set_count_fragments(false);
         r.set_fragment_stage(gl::QuadricRenderer::FragmentStage::passthrough);
         r.set_depth_test(false);
@@ -166,33 +180,44 @@ void run_bounds_bench(const BoundsBenchOptions& o) {
         r.draw(cam, light, modes[2]);  // warm-up
         if (general) general->draw(cam, light, modes[2]);  // warm-up
         // Time the frames, interleaved
-        std::vector<double> ms[3], ms_general, ms_cull, ms_rect, ms_late;
+        std::vector<double> ms[3], ms_general, ms_general_comp, ms_cull, ms_rect, ms_late, ms_comp, ms_cull_comp;
         for (int i = 0; i < o.frames; ++i) {
             for (int m = 0; m < 3; ++m) ms[m].push_back(time_frame(r, modes[m]));
             ms_cull.push_back(r.cull_pass_ms());
             r.set_early_discard(false);
             ms_late.push_back(time_frame(r, modes[2]));
             r.set_early_discard(true);
+            r.set_compute_bounds(true);
+            ms_comp.push_back(time_frame(r, modes[2]));
+            ms_cull_comp.push_back(r.cull_pass_ms());
+            r.set_compute_bounds(false);
             if (o.sticks) {
                 r.set_slab_quads(false);
                 ms_rect.push_back(time_frame(r, modes[1]));
                 r.set_slab_quads(true);
             }
-            if (general) ms_general.push_back(time_frame(*general, modes[2]));
+            if (general) {
+                ms_general.push_back(time_frame(*general, modes[2]));
+                general->set_compute_bounds(true);
+                ms_general_comp.push_back(time_frame(*general, modes[2]));
+                general->set_compute_bounds(false);
+            }
         }
         const double t[3] = {median(ms[0]), median(ms[1]), median(ms[2])};
         std::printf("%10d %9ld %8.1f %8.1f %8.1f %8.1f %9.2fx %9.2fx %6.1f%% %6.2f %6.2f %6.2f %7.2f %7.2f %7.2f", n, covered, t[0], t[1], t[2], median(ms_cull), t[0] / t[2], t[1] / t[2],
                     100.0 * static_cast<double>(drawn) / std::max(1, n), rast[0] / covered, rast[1] / covered, rast[2] / covered, frag[0] / covered,
                     frag[1] / covered, frag[2] / covered);
         const double t_late = median(ms_late);
-        std::printf(" %9.1f %10.2fx", t_late, t_late / t[2]);
+        const double t_comp = median(ms_comp);
+        std::printf(" %9.1f %10.2fx %9.1f %9.1f %10.2fx", t_late, t_late / t[2], t_comp, median(ms_cull_comp), t[2] / t_comp);
         if (o.sticks) {
             const double t_rect = median(ms_rect);
             std::printf(" %8.1f %9.2fx %7.2f", t_rect, t_rect / t[1], rast_rect / covered);
         }
         if (general) {
             const double m_general = median(ms_general);
-            std::printf(" %16.1f %13.2fx", m_general, m_general / t[2]);
+            const double m_general_comp = median(ms_general_comp);
+            std::printf(" %16.1f %13.2fx %14.1f %14.2fx", m_general, m_general / t[2], m_general_comp, m_general / m_general_comp);
         }
         std::printf("\n");
     }

@@ -59,6 +59,13 @@ public:
     /// sphere variant, whose cast is about as cheap as the test, nor the planes variant). The same
     /// picture; a benchmark switch.
     void set_early_discard(bool on);
+    /// With RenderOptions::occlusion_culling, a compute pass after the compaction computes, for the
+    /// kept primitives only and on all threads, the clip positions of each one's four corners and
+    /// its nearest view distance (the vertex stage's per-primitive work, from the same traced
+    /// kernels), and the vertex stage only fetches them; off (the default), the vertex stage
+    /// computes them, once per corner. The same picture; a benchmark switch. Off by default
+    /// because it did not pay on llvmpipe: `quadcast bench spheres` / `bench sticks`, column 'comp'.
+    void set_compute_bounds(bool on);
     /// Samples that passed (GL_SAMPLES_PASSED) in the primitive pass of the last `draw`.
     std::uint64_t samples_passed() const;
     /// Count fragment-shader invocations of the primitive pass (GL_ARB_pipeline_statistics_query,

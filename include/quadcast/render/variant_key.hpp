@@ -118,10 +118,15 @@ struct DeferredKey {
 /// A compute pass of occlusion culling (quadcast::gl::QuadricRenderer, quadcast/occlusion.hpp):
 /// the occluders' disks into the depth image, one level of the max-depth pyramid, the cull test
 /// of every record, the prefix sum of its workgroups' counts (and the indirect draw commands), or
-/// the compaction of the kept records into the visible list.
-enum class OcclusionPass : std::uint8_t { occluders, pyramid, cull, scan, compact };
+/// the compaction of the kept records into the visible list, or (`bounds`, optional) for each
+/// slot of the visible list what the vertex stage would compute per primitive (the clip positions
+/// of its four corners and its nearest view distance, for the sphere-specialised vertex stage or
+/// the general one, per camera), so that the vertex stage only fetches.
+enum class OcclusionPass : std::uint8_t { occluders, pyramid, cull, scan, compact, bounds };
 struct OcclusionKey {
     OcclusionPass pass = OcclusionPass::occluders;
+    bool sphere = false;  ///< `bounds`: of the sphere-specialised vertex stage
+    bool ortho = false;   ///< `bounds`: orthographic camera
     friend constexpr bool operator==(const OcclusionKey&, const OcclusionKey&) = default;
 };
 
@@ -170,8 +175,9 @@ inline std::string key_name(const IsoKey& k) {
 }
 
 inline std::string key_name(const OcclusionKey& k) {
-    const char* pass = k.pass == OcclusionPass::occluders ? "occluders" : k.pass == OcclusionPass::pyramid ? "pyramid" : k.pass == OcclusionPass::cull ? "cull" : k.pass == OcclusionPass::scan ? "scan" : "compact";
-    return std::string("occlusion:") + pass;
+    const char* pass = k.pass == OcclusionPass::occluders ? "occluders" : k.pass == OcclusionPass::pyramid ? "pyramid" : k.pass == OcclusionPass::cull ? "cull" : k.pass == OcclusionPass::scan ? "scan" : k.pass == OcclusionPass::compact ? "compact" : "bounds";
+    if (k.pass != OcclusionPass::bounds) return std::string("occlusion:") + pass;
+    return std::string("occlusion:") + pass + (k.sphere ? ":sphere" : ":quadric") + (k.ortho ? ":ortho" : ":perspective");
 }
 
 inline std::string key_name(const SlimKey& k) {
@@ -192,7 +198,10 @@ inline std::vector<SlimKey> all_slim_keys() {
 
 /// Every occlusion key a renderer can ask for.
 inline std::vector<OcclusionKey> all_occlusion_keys() {
-    return {{OcclusionPass::occluders}, {OcclusionPass::pyramid}, {OcclusionPass::cull}, {OcclusionPass::scan}, {OcclusionPass::compact}};
+    std::vector<OcclusionKey> out{{OcclusionPass::occluders}, {OcclusionPass::pyramid}, {OcclusionPass::cull}, {OcclusionPass::scan}, {OcclusionPass::compact}};
+    for (bool sphere : {false, true})
+        for (bool ortho : {false, true}) out.push_back({OcclusionPass::bounds, sphere, ortho});
+    return out;
 }
 
 /// Every canonical quadric key a renderer can ask for.
