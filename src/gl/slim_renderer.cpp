@@ -227,7 +227,7 @@ private:
     const Api* api_;
     GLuint vao_ = 0, records_ = 0, planes_ = 0, indices_ = 0, visible_ = 0;
     GLuint afbo_ = 0, atex_[3] = {0, 0, 0}, depth_ = 0;
-    int width_ = 0, height_ = 0, bits_ = 16;
+    int width_ = 0, height_ = 0, bits_ = 32;
     std::size_t count_ = 0;
     Vec3<double> lo_{{1e300, 1e300, 1e300}}, hi_{{-1e300, -1e300, -1e300}};
     GeneratedPrograms programs_{*api_, "quadcast::gl::SlimRenderer"};

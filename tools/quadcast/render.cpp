@@ -30,7 +30,7 @@ namespace {
 
 struct RenderArgs {
     std::string scene, output, depth;
-    int width = 1024, height = 768, frames = 0, slim_bits = 16;
+    int width = 1024, height = 768, frames = 0, slim_bits = 32;
     bool cpu = false, timing = false;
 };
 

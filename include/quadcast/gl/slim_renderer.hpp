@@ -36,8 +36,10 @@ public:
     SlimRenderer(const SlimRenderer&) = delete;
     SlimRenderer& operator=(const SlimRenderer&) = delete;
 
-    /// Bits per channel of the accumulation targets: 16 (RGBA16F, default) or 32 (RGBA32F); other
-    /// values throw std::invalid_argument (8-bit UNORM targets cannot hold signed sums).
+    /// Bits per channel of the accumulation targets: 32 (RGBA32F, default) or 16 (RGBA16F: the
+    /// half-float sum of w lambda rounds the blended position along the ray to about 2^-11 of its
+    /// distance, at no measured gain in speed on llvmpipe); other values throw
+    /// std::invalid_argument (8-bit UNORM targets cannot hold signed sums).
     void set_precision(int bits);
     int precision() const;
 
