@@ -32,6 +32,7 @@
 #include "quadcast/quadric.hpp"
 #include "quadcast/ray.hpp"
 #include "quadcast/render/types.hpp"
+#include "quadcast/render/validate.hpp"
 
 namespace quadcast::shapes {
 
@@ -130,27 +131,6 @@ inline render::Primitive make(const char* fn, const Quadric<double>& local, cons
     p.material.specular = look.specular;
     p.material.shininess = look.shininess;
     return p;
-}
-
-/// The distance from the local origin of the farthest corner of the tetrahedron that four (float)
-/// clip planes bound, each corner the intersection of three planes solved in double (0 when the
-/// planes meet in no point).
-inline double float_planes_extent(const Vec4<float> (&planes)[4]) {
-    double best = 0;
-    for (int skip = 0; skip < 4; ++skip) {
-        Eigen::Matrix3d m;
-        Eigen::Vector3d rhs;
-        int row = 0;
-        for (int i = 0; i < 4; ++i) {
-            if (i == skip) continue;
-            for (int k = 0; k < 3; ++k) m(row, k) = double(planes[i][k]);
-            rhs(row) = -double(planes[i][3]);
-            ++row;
-        }
-        const Eigen::Vector3d x = m.fullPivLu().solve(rhs);
-        if (x.allFinite()) best = std::max(best, x.norm());
-    }
-    return best;
 }
 
 /// Centre (centroid) and radius (farthest point, + 1e-6 relative) of a sphere around the points.
@@ -354,7 +334,13 @@ inline render::Primitive quadric(const glm::dmat4& q_world, const TetrahedronBou
     // The tetrahedron the float planes bound: for a sliver (the triangulated mixed complex of a
     // skin surface has many) its corners lie measurably off the double ones; the bounding sphere
     // must hold them, or the renderers would crop the piece.
-    const double e = detail::float_planes_extent(prim.shape.planes);
+    // (The extent as render::validate measures it, so that the two agree however thin it is.)
+    double e = 0;
+    try {
+        e = render::validate_detail::tet_extent(0, prim.shape.planes);
+    } catch (const std::invalid_argument&) {
+        detail::fail(fn, "the tetrahedron is too flat for float clip planes");
+    }
     if (e > r) prim.shape.radius = detail::to_float(fn, "bounding radius", e * (1 + 1e-6));
     return prim;
 }

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <stdexcept>
 #include <string>
 #include <unordered_map>
@@ -150,6 +151,42 @@ SkinSurface::SkinSurface(const std::vector<scene::SkinBall>& balls, double shrin
     // cells whose BB coefficients change sign.
     const Clock::time_point t1 = Clock::now();
     const NearestBall nearest(balls, shrink);
+    // The balls of the regular triangulation's vertices (the far points of negative weight have none).
+    std::map<std::array<double, 3>, std::size_t> ball_at;
+    for (std::size_t i = balls.size(); i-- > 0;) ball_at[{balls[i].center[0], balls[i].center[1], balls[i].center[2]}] = i;
+    // The colour of a cell: the ball of its anchor simplex (the Delaunay simplex of its mixed cell)
+    // nearest in power distance to the cell's centroid, so that colours change along mixed cells.
+    const auto anchor_ball = [&](const Cgal_skin::Simplex& sim, const Vec3d& x) {
+        std::vector<Cgal_skin::Vertex_handle> v;
+        switch (sim.dimension()) {
+            case 0: v.push_back(Cgal_skin::Vertex_handle(sim)); break;
+            case 1: {
+                const Cgal_skin::Edge e(sim);
+                v = {e.first->vertex(e.second), e.first->vertex(e.third)};
+                break;
+            }
+            case 2: {
+                const Cgal_skin::Facet f(sim);
+                for (int k = 1; k < 4; ++k) v.push_back(f.first->vertex((f.second + k) % 4));
+                break;
+            }
+            default: {
+                const Cgal_skin::Cell_handle c(sim);
+                for (int k = 0; k < 4; ++k) v.push_back(c->vertex(k));
+            }
+        }
+        std::size_t best = balls.size();
+        double best_d = HUGE_VAL;
+        for (const auto& h : v) {
+            const auto& wp = h->point();
+            const auto it = ball_at.find({CGAL::to_double(wp.x()), CGAL::to_double(wp.y()), CGAL::to_double(wp.z())});
+            if (it == ball_at.end()) continue;
+            const Vec3d d = x - balls[it->second].center;
+            const double pd = dot(d, d) - balls[it->second].radius * balls[it->second].radius / shrink;
+            if (pd < best_d) best_d = pd, best = it->second;
+        }
+        return best < balls.size() ? best : nearest(x);
+    };
     Tmc& tmc = m.skin->triangulated_mixed_complex();
     for (auto c = tmc.finite_cells_begin(); c != tmc.finite_cells_end(); ++c) {
         ++m.stats.cells;
@@ -212,7 +249,7 @@ SkinSurface::SkinSurface(const std::vector<scene::SkinBall>& balls, double shrin
         Piece piece;
         piece.tet = p;
         piece.q = translate_to_eye(local, mid * -1.0);
-        piece.ball = nearest(mid);
+        piece.ball = anchor_ball(c->info().first, mid);
         piece.cell = m.surfaces.size();
         m.surfaces.push_back(s);
         m.pieces.push_back(piece);
