@@ -102,7 +102,7 @@ test-clang: deps
 	cd $(CLANG_BUILD) && ctest --output-on-failure -j $(JOBS)
 
 DEMO_SCENES := 1tii_balls_and_sticks 1tii_space_filling il2_balls_and_sticks il2_space_filling quads_cube primitives marschner_lobb_qss reflective \
-  skull_s31 liver_qss bunny_sdf_s31 slim_bunny slim_kitten slim_fandisk slim_dragon tetmesh_tangle
+  skull_s31 liver_qss bunny_sdf_s31 slim_bunny slim_kitten slim_fandisk slim_dragon tetmesh_tangle 1tii_skin il2_skin
 
 demo: build demo-deps data
 	@mkdir -p demo-out

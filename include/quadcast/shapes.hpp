@@ -32,6 +32,7 @@
 #include "quadcast/quadric.hpp"
 #include "quadcast/ray.hpp"
 #include "quadcast/render/types.hpp"
+#include "quadcast/render/validate.hpp"
 
 namespace quadcast::shapes {
 
@@ -330,6 +331,17 @@ inline render::Primitive quadric(const glm::dmat4& q_world, const TetrahedronBou
     // Each face plane scaled to the barycentric coordinate of its opposite corner (1 there).
     const TetPlanes<double> pl = barycentric_planes(t);
     for (int i = 0; i < 4; ++i) prim.shape.planes[i] = cast<float>(pl.plane[i]);
+    // The tetrahedron the float planes bound: for a sliver (the triangulated mixed complex of a
+    // skin surface has many) its corners lie measurably off the double ones; the bounding sphere
+    // must hold them, or the renderers would crop the piece.
+    // (The extent as render::validate measures it, so that the two agree however thin it is.)
+    double e = 0;
+    try {
+        e = render::validate_detail::tet_extent(0, prim.shape.planes);
+    } catch (const std::invalid_argument&) {
+        detail::fail(fn, "the tetrahedron is too flat for float clip planes");
+    }
+    if (e > r) prim.shape.radius = detail::to_float(fn, "bounding radius", e * (1 + 1e-6));
     return prim;
 }
 inline render::Primitive quadric(const glm::mat4& q_world, const TetrahedronBound& bound, const Appearance& look = {}) {

@@ -242,6 +242,12 @@ SlimLoadFunction g_slim_load = nullptr;
 }
 void set_slim_load_function(SlimLoadFunction f) { g_slim_load = f; }
 SlimLoadFunction slim_load_function() { return g_slim_load; }
+
+namespace {
+SkinBuildFunction g_skin_build = nullptr;
+}
+void set_skin_build_function(SkinBuildFunction f) { g_skin_build = f; }
+SkinBuildFunction skin_build_function() { return g_skin_build; }
 VolumeBoxFunction volume_box_function() { return g_volume_box; }
 
 Location Scene::location(const Origin& o) const {

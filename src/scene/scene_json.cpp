@@ -231,16 +231,27 @@ void load_pdb(ObjectContext& ctx) {
     const std::filesystem::path path = ctx.file_path();
     const JsonNode& e = ctx.entry;
     MoleculeLook look;
-    if (const auto s = e.get("style"))
-        look.style = s->choice({"balls_and_sticks", "space_filling"}) == "space_filling" ? MoleculeStyle::space_filling
-                                                                                        : MoleculeStyle::balls_and_sticks;
+    if (const auto s = e.get("style")) {
+        const std::string k = s->choice({"balls_and_sticks", "space_filling", "skin"});
+        look.style = k == "space_filling" ? MoleculeStyle::space_filling : k == "skin" ? MoleculeStyle::skin : MoleculeStyle::balls_and_sticks;
+    }
     const bool sticks = look.style == MoleculeStyle::balls_and_sticks;
+    const bool skin = look.style == MoleculeStyle::skin;
     for (std::string_view k : {"ball_scale", "bond_radius"})
         if (!sticks && e.has(k)) e.at(k).fail("only for \"style\": \"balls_and_sticks\"");
-    if (sticks && e.has("vdw_scale")) e.at("vdw_scale").fail("only for \"style\": \"space_filling\"");
+    if (sticks && e.has("vdw_scale")) e.at("vdw_scale").fail("only for \"style\": \"space_filling\" or \"skin\"");
+    if (!skin && e.has("shrink")) e.at("shrink").fail("only for \"style\": \"skin\"");
     if (const auto n = e.get("ball_scale")) look.ball_scale = n->number(Range::positive);
     if (const auto n = e.get("bond_radius")) look.bond_radius = n->number(Range::positive);
     if (const auto n = e.get("vdw_scale")) look.vdw_scale = n->number(Range::positive);
+    if (const auto n = e.get("shrink")) {
+        look.shrink = n->number();
+        if (!(look.shrink > 0 && look.shrink < 1)) n->fail("the shrink factor must lie in (0, 1), got " + shortest(look.shrink));
+    }
+    const SkinBuildFunction build_skin = skin ? skin_build_function() : nullptr;
+    if (skin && !build_skin)
+        e.at("style").fail("skin surfaces need the skin component, which is not linked into this program "
+                           "(link quadcast_skin and call quadcast::skin::install_scene_builder)");
     PdbOptions opt;
     if (const auto n = e.get("strict")) opt.strict = n->boolean();
 
@@ -252,7 +263,25 @@ void load_pdb(ObjectContext& ctx) {
         rethrow_from(err, ctx.value);
     }
     ctx.scene.warnings.insert(ctx.scene.warnings.end(), m.warnings.begin(), m.warnings.end());
-    append_molecule(ctx.scene, m, look, ctx.material, ctx.color_given ? &ctx.material.color : nullptr);
+    if (!skin) {
+        append_molecule(ctx.scene, m, look, ctx.material, ctx.color_given ? &ctx.material.color : nullptr);
+        return;
+    }
+    // The skin: the atoms' van der Waals balls (times vdw_scale) handed to the installed builder.
+    std::vector<SkinBall> balls;
+    balls.reserve(m.atoms.size());
+    for (const Atom& a : m.atoms) balls.push_back({a.position, look.vdw_scale * a.element->vdw, ctx.color_given ? ctx.material.color : a.element->cpk});
+    std::vector<Quadric> pieces;
+    try {
+        pieces = build_skin(balls, look.shrink, ctx.material);
+    } catch (const ParseError&) {
+        throw;
+    } catch (const std::bad_alloc&) {
+        ctx.value.fail("out of memory while building the skin surface of '" + path.string() + "'");
+    } catch (const std::exception& err) {
+        ctx.value.fail(std::string("the skin surface of '") + path.string() + "': " + err.what());
+    }
+    ctx.scene.quadrics.insert(ctx.scene.quadrics.end(), pieces.begin(), pieces.end());
 }
 
 void load_off(ObjectContext& ctx) {
@@ -595,7 +624,7 @@ const std::vector<ObjectKind>& object_kinds() {
         {"cone", {}, load_cone},
         {"quadric", {}, load_quadric},
         {"quad", {}, load_quad},
-        {"pdb", {"style", "ball_scale", "bond_radius", "vdw_scale", "strict"}, load_pdb},
+        {"pdb", {"style", "ball_scale", "bond_radius", "vdw_scale", "shrink", "strict"}, load_pdb},
         {"off", {"triangles"}, load_off},
         {"volume", {"iso", "scheme", "method"}, load_volume},
         {"slim", {"error"}, load_slim},

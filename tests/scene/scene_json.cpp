@@ -346,7 +346,7 @@ TEST_CASE("file paths resolve against the scene's directory; reader errors keep 
     });
     CHECK(e.field() == "/objects/0/bond_radius");
     e = parse_error_of([&] { load_scene(dir.write("style2.json", R"({"objects": [{"pdb": "odd01.pdb", "style": "cartoon"}]})")); });
-    CHECK(e.message() == "'cartoon' is not one of: balls_and_sticks, space_filling");
+    CHECK(e.message() == "'cartoon' is not one of: balls_and_sticks, space_filling, skin");
 }
 
 TEST_CASE("a missing scene file is an error naming it") {

@@ -22,6 +22,7 @@
 #include "quadcast/volume/load.hpp"
 #include "quadcast/scene/scene_json.hpp"
 #include "quadcast/scene/scene_render.hpp"
+#include "quadcast/skin/skin.hpp"
 #include "quadcast/slim/scene_loader.hpp"
 
 namespace quadcast::cli {
@@ -150,6 +151,7 @@ int run_render(const RenderArgs& a) {
     scene::Scene sc;
     scene::set_volume_box_function(volume_box);
     slim::install_scene_loader();
+    skin::install_scene_builder();
     try {
         sc = scene::load_scene(a.scene);
     } catch (const scene::ParseError& e) {

@@ -101,20 +101,23 @@ void compute_bonds(Molecule& m);
 /// Decodes a PDB serial (decimal, or hybrid-36 for serials > 99999); false if not a number.
 bool decode_hybrid36(std::string_view field, int& value);
 
-enum class MoleculeStyle { balls_and_sticks, space_filling };
+enum class MoleculeStyle { balls_and_sticks, space_filling, skin };
 
 struct MoleculeLook {
     MoleculeStyle style = MoleculeStyle::balls_and_sticks;
     double ball_scale = 0.25;   ///< balls_and_sticks: atom radius = ball_scale * vdW radius
     double bond_radius = 0.15;  ///< balls_and_sticks: stick radius, A
-    double vdw_scale = 1.0;     ///< space_filling: atom radius = vdw_scale * vdW radius
+    double vdw_scale = 1.0;     ///< space_filling and skin: atom radius = vdw_scale * vdW radius
+    double shrink = 0.5;        ///< skin: the shrink factor s in (0, 1)
 };
 
 /// Appends the molecule to the scene: balls_and_sticks = one sphere per atom (ball_scale * vdW,
 /// CPK colour) and per bond two uncapped cylinders meeting at the bond's midpoint, each
 /// coloured like its atom; space_filling = one vdW sphere per atom, no bonds (compute_bonds is
 /// not needed). `uniform_color` (if not null) replaces the CPK colours; `material` gives
-/// specular and shininess.
+/// specular and shininess. The skin style is not drawn here (it needs the skin component: the
+/// scene loader hands the balls to scene::skin_build_function()); append_molecule draws it as
+/// space filling.
 void append_molecule(Scene& scene, const Molecule& m, const MoleculeLook& look, const Material& material,
                      const Vec3d* uniform_color = nullptr);
 

@@ -248,6 +248,23 @@ using SlimLoadFunction = std::vector<SlimBall> (*)(const std::filesystem::path& 
 void set_slim_load_function(SlimLoadFunction f);
 SlimLoadFunction slim_load_function();
 
+/// A ball of a molecular skin surface ("style": "skin" of a "pdb" object): the atom's centre, its
+/// van der Waals radius times "vdw_scale" (the skin of an isolated atom is this sphere), its colour.
+struct SkinBall {
+    Vec3d center;
+    double radius = 0;
+    Vec3d color{{0.8, 0.8, 0.8}};
+};
+
+/// Builds the skin surface of `balls` (Edelsbrunner; shrink factor `shrink` in (0, 1)) as quadrics
+/// clipped to the tetrahedra of its mixed complex, each with `material` and the colour of the ball
+/// nearest to it (power distance). Throws std::exception. Installed by programs that link the skin
+/// component (quadcast::skin::install_scene_builder); none is installed by default, so that CGAL
+/// stays out of the scene component.
+using SkinBuildFunction = std::vector<Quadric> (*)(const std::vector<SkinBall>& balls, double shrink, const Material& material);
+void set_skin_build_function(SkinBuildFunction f);
+SkinBuildFunction skin_build_function();
+
 /// Everything the renderer draws: one vector per primitive kind.
 struct Scene {
     std::filesystem::path source;  ///< the scene file ("" when built in code)
