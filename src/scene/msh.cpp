@@ -525,13 +525,13 @@ std::vector<Quadric> tetmesh_isosurface(const MshMesh& mesh, const TetmeshIso& w
     // 01, 02, 03, 12, 13, 23.
     static constexpr int gmsh_edge_node[6] = {4, 6, 7, 5, 9, 8};
     for (const MshTet& t : mesh.tets) {
-        const std::string elem = "element " + std::to_string(t.tag);
-        const Location at_elem{mesh.file, t.line, 0, "$Elements " + elem};
+        // The element's location, built only when it fails (no string per element on the way).
+        const auto at_elem = [&] { return Location{mesh.file, t.line, 0, "$Elements element " + std::to_string(t.tag)}; };
         double v[10];
         for (int k = 0; k < t.nodes; ++k) {
             v[k] = field->value[t.node[k]];
             if (std::isnan(v[k]))
-                throw ParseError(at_elem, "node " + std::to_string(mesh.node_tags[t.node[k]]) + " has no value in field \"" + field->name + "\"");
+                throw ParseError(at_elem(), "node " + std::to_string(mesh.node_tags[t.node[k]]) + " has no value in field \"" + field->name + "\"");
         }
         BoundingTet<double> local{};
         Vec3d c{{0, 0, 0}};
@@ -541,7 +541,7 @@ std::vector<Quadric> tetmesh_isosurface(const MshMesh& mesh, const TetmeshIso& w
         for (int a = 0; a < 4; ++a)
             for (int b = a + 1; b < 4; ++b) longest = std::max(longest, length(local.p[a] - local.p[b]));
         const double vol6 = std::fabs(dot(local.p[1] - local.p[0], cross(local.p[2] - local.p[0], local.p[3] - local.p[0])));
-        if (!(vol6 > 1e-12 * longest * longest * longest)) throw ParseError(at_elem, "a flat tetrahedron (its corners are coplanar)");
+        if (!(vol6 > 1e-12 * longest * longest * longest)) throw ParseError(at_elem(), "a flat tetrahedron (its corners are coplanar)");
         bb::BezierTet<double, 2> b{};
         const double corner[4] = {v[0], v[1], v[2], v[3]};
         if (t.nodes == 10) {
@@ -552,7 +552,7 @@ std::vector<Quadric> tetmesh_isosurface(const MshMesh& mesh, const TetmeshIso& w
                 const Vec3d m = (local.p[i] + local.p[j]) * 0.5;
                 const double off = length(mesh.nodes[t.node[node]] - c - m);
                 if (!(off <= 1e-6 * longest))
-                    throw ParseError(at_elem, "a curved element: node " + std::to_string(mesh.node_tags[t.node[node]]) + " is " + shortest(off) +
+                    throw ParseError(at_elem(), "a curved element: node " + std::to_string(mesh.node_tags[t.node[node]]) + " is " + shortest(off) +
                                                   " from the midpoint of its edge (" + shortest(off / longest) +
                                                   " of the element's size); only straight-sided 10-node tetrahedra are drawn exactly "
                                                   "(mesh with Gmsh's Mesh.SecondOrderLinear = 1)");
