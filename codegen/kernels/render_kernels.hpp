@@ -191,6 +191,42 @@ struct PrimitiveQuadSlabKernel {
     }
 };
 
+/// Per vertex of the bounding geometry of the planes variant: the padded hull of the projected
+/// tetrahedron its clip planes bound (`tetra_quad`), and whether it is tight and visible.
+struct PrimitiveQuadTetraKernel {
+    static constexpr const char* name = "primitive_quad_tetra";
+    static constexpr const char* source = "quadcast::tetra_quad (quadcast/bounds.hpp)";
+    static constexpr const char* summary = "screen quadrilateral of a primitive clipped to a tetrahedron: its projected hull";
+    template <class IO> static void run(IO& io) {
+        using T = typename IO::T;
+        const Mat4<T> vp = io.template mat<4>("view_projection");
+        Vec4<T> planes[4];
+        for (int i = 0; i < 4; ++i) planes[i] = io.template vec<4>("plane" + std::to_string(i));
+        const Vec3<T> center = io.template vec<3>("center");
+        const Vec2<T> viewport = io.template vec<2>("viewport");
+        const ScreenQuad<T> r = tetra_quad(vp, planes, center, viewport);
+        io.out("c0", r.corner[0]);
+        io.out("c1", r.corner[1]);
+        io.out("c2", r.corner[2]);
+        io.out("c3", r.corner[3]);
+        io.out("tight", r.tight);
+        io.out("visible", r.visible);
+    }
+    static void generate(std::mt19937& rng, std::span<float> in) {
+        std::size_t p = 0;
+        put_view_projection(rng, in, p);
+        // A tetrahedron around the local origin (some flat, some slivers): its barycentric planes.
+        const double size = uniform(rng, 0.05f, 3.0f);
+        BoundingTet<double> t{};
+        for (int i = 0; i < 4; ++i) t.p[i] = cast<double>(random_point(rng, 1.0f)) * size;
+        if (uniform(rng, 0.0f, 1.0f) < 0.2f) t.p[3] = (t.p[0] + t.p[1] + t.p[2]) / 3.0 + cast<double>(random_point(rng, 1.0f)) * (size * 0.01);
+        const TetPlanes<double> pl = barycentric_planes(t);
+        for (int i = 0; i < 4; ++i) put(in, p, cast<float>(pl.plane[i]));
+        put(in, p, random_point(rng, 50.0f));
+        put(in, p, vec2(1024.0f, 768.0f));
+    }
+};
+
 /// Per primitive (perspective cameras): back-face culling against the bounding sphere (Stoll et
 /// al. 2006, sec. 4.4.4; `cull_primitive`, and `cull_primitive_with_caps` for capped slabs) for
 /// the eye's local position o = eye - center (`local_ray`'s o).

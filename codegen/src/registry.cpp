@@ -40,6 +40,7 @@ const std::vector<KernelDef>& registry() {
         make_kernel<PrimitiveRectKernel<RectBound::ellipsoid>>(),
         make_kernel<PrimitiveRectKernel<RectBound::slab>>(),
         make_kernel<PrimitiveQuadSlabKernel>(),
+        make_kernel<PrimitiveQuadTetraKernel>(),
         make_kernel<PrimitiveCullKernel>(),
         make_kernel<FragmentRayKernel<false>>(),
         make_kernel<FragmentRayKernel<true>>(),

@@ -590,7 +590,11 @@ enum class RectBound : int {
     sphere = 0,
     ellipsoid = 1,  ///< the ellipsoid itself (`ellipsoid_dual`)
     slab = 2,       ///< the convex hull of the two slab sections (`slab_cap_dual`): cylinders, cones and
-                    ///< one-sheet hyperboloids, which are ruled between their caps
+                    ///< one-sheet hyperboloids, which are ruled between their caps    /// The hull of the projected tetrahedron the four clip planes bound (`tetra_quad`): the
+    /// `planes` variant (quadric pieces of finite elements, isosurfaces and skins; bilinear quads,
+    /// whose planes bound their corners' tetrahedron). Planes that bound no tetrahedron (a planar
+    /// quad's extruded edges) fall back to the bounding sphere's quad.
+    tetrahedron = 3,
 };
 
 /// The screen rectangle of a primitive (`ClippedQuadric` fields; local coordinates around
@@ -694,6 +698,134 @@ ScreenQuad<T> slab_quad(const Mat4<T>& view_projection, const Quadric<T>& q, con
     }
     out.tight = tight || behind;
     out.visible = !behind;
+    return out;
+}
+
+/// The slack of the `planes` variants' clip test (`inside_planes`): a point is inside when every
+/// plane's value is at least -clip_plane_slack (2^-12; the planes are scaled as barycentric
+/// coordinates, so the slack is relative to the element's size).
+inline constexpr double clip_plane_slack = 0.000244140625;
+
+/// Twice the signed area of the triangle (a, b, c): positive when counter-clockwise.
+/// Numerics: (b - a).x (c - a).y - (b - a).y (c - a).x.
+template <class T>
+T orient2(const Vec2<T>& a, const Vec2<T>& b, const Vec2<T>& c) {
+    return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+}
+
+namespace detail {
+
+/// Vertex v of a counter-clockwise convex polygon, between the edges from `prev` and to `next`,
+/// moved so that both edges lie `pad` further out: v + pad (n0 + n1) / (1 + n0 . n1) for the
+/// edges' unit outward normals n0, n1 (the miter). `ok` turns false where the miter would be
+/// longer than 16 pad (an angle sharper than about 7 degrees) or an edge has no length.
+/// Numerics: normals by `normalize`.
+template <class T>
+Vec2<T> miter_vertex(const Vec2<T>& prev, const Vec2<T>& v, const Vec2<T>& next, const T& pad, mask_t<T>& ok) {
+    const Vec2<T> e0 = v - prev, e1 = next - v;
+    const Vec2<T> n0 = normalize(vec2(e0[1], -e0[0])), n1 = normalize(vec2(e1[1], -e1[0]));
+    const T k = T(1) + dot(n0, n1);
+    const mask_t<T> k_ok = k >= T(0.0078125);  // false for NaN
+    ok = ok && k_ok;
+    return v + (n0 + n1) * (pad / select(k_ok, k, T(1)));
+}
+
+}  // namespace detail
+
+/// The padded screen quadrilateral of a primitive clipped to four planes that bound a
+/// tetrahedron (`planes`, inward, local coordinates around `center`; the `planes` variants):
+/// the convex hull of the projected corners of the region the clip test accepts
+/// (every plane's value >= -`clip_plane_slack`), instead of the square around the bounding
+/// sphere, which covers several times the tetrahedron's projection.
+/// Corners: corner j is where the three planes other than j meet,
+/// x_j = -(d_a (n_b x n_c) + d_b (n_c x n_a) + d_c (n_a x n_b)) / (n_a . (n_b x n_c)), usable when
+/// |n_a . (n_b x n_c)| > 2^-8 |n_a| |n_b| |n_c| (the three planes meet at an angle) and plane j
+/// is positive there (then the four half-spaces bound exactly that tetrahedron; bilinear quads'
+/// extruded edge planes do not: they get tight = false).
+/// Hull: P_j = (W/2 x_c / w_c, H/2 y_c / w_c) pixels from the screen centre; the triangle of
+/// three corners with the largest area, made counter-clockwise, and the fourth corner inserted
+/// after the one edge it lies beyond (a quadrilateral), or, when it lies inside, the midpoint of
+/// the closing edge as the fourth vertex (the triangle).
+/// Padding: every edge moved out by 1/16 pixel + 2^-10 of the larger side of the corners'
+/// bounding box + 2^-15 of their largest coordinate (`detail::miter_vertex`).
+/// tight iff all four corners are usable and lie beyond the near plane with a margin
+/// (z_c + w_c > 2^-10 w_c, w_c > 0), the hull has an area, no miter is too long and every corner
+/// lies within 64 in NDC; visible iff some corner lies in front of the eye plane or the corners
+/// are not usable; not visible: every corner at (2, 2).
+/// Numerics: dots are left folds; cross products as `cross`.
+template <class T>
+ScreenQuad<T> tetra_quad(const Mat4<T>& view_projection, const Vec4<T> (&planes)[4], const Vec3<T>& center, const Vec2<T>& viewport) {
+    // Pull the clip-space rows back to local coordinates
+    const Vec4<T> r1 = detail::local_clip_row(view_projection, center, 0);
+    const Vec4<T> r2 = detail::local_clip_row(view_projection, center, 1);
+    const Vec4<T> r3 = detail::local_clip_row(view_projection, center, 2);
+    const Vec4<T> r4 = detail::local_clip_row(view_projection, center, 3);
+    const T half_w = viewport[0] * T(0.5), half_h = viewport[1] * T(0.5);
+    // Find and project the corners of the accepted region
+    Vec4<T> pl[4];
+    for (int i = 0; i < 4; ++i) pl[i] = planes[i] + vec4(T(0), T(0), T(0), T(clip_plane_slack));
+    mask_t<T> ok = mask_t<T>(true), front = mask_t<T>(true), behind = mask_t<T>(true);
+    Vec2<T> px[4];
+    for (int j = 0; j < 4; ++j) {
+        const Vec4<T>& a = pl[(j + 1) % 4];
+        const Vec4<T>& b = pl[(j + 2) % 4];
+        const Vec4<T>& c = pl[(j + 3) % 4];
+        const Vec3<T> na = xyz(a), nb = xyz(b), nc = xyz(c);
+        const Vec3<T> bc = cross(nb, nc), ca = cross(nc, na), ab = cross(na, nb);
+        const T d = dot(na, bc);
+        const mask_t<T> d_ok = abs(d) > T(0.00390625) * ((length(na) * length(nb)) * length(nc));  // false for NaN
+        const Vec3<T> x = -((bc * a[3] + ca * b[3]) + ab * c[3]) / select(d_ok, d, T(1));
+        ok = (ok && d_ok) && (dot(pl[j], vec4(x, T(1))) > T(0));
+        const Vec4<T> xh = vec4(x, T(1));
+        const T cx = dot(r1, xh), cy = dot(r2, xh), cz = dot(r3, xh), cw = dot(r4, xh);
+        front = (front && (cw > T(0))) && (cz + cw > T(0.0009765625) * cw);
+        behind = behind && (cw < T(0));
+        const T ws = select(cw > T(0), cw, T(1));
+        px[j] = vec2(half_w * (cx / ws), half_h * (cy / ws));
+    }
+    // Pick the largest triangle of three corners and the fourth
+    const T area[4] = {orient2(px[1], px[2], px[3]), orient2(px[0], px[2], px[3]), orient2(px[0], px[1], px[3]),
+                       orient2(px[0], px[1], px[2])};
+    Vec2<T> a = px[1], b = px[2], c = px[3], q = px[0];
+    T best = abs(area[0]), signed_area = area[0];
+    for (int m = 1; m < 4; ++m) {
+        const mask_t<T> larger = abs(area[m]) > best;
+        a = select(larger, px[0], a);
+        b = select(larger, px[m == 1 ? 2 : 1], b);
+        c = select(larger, px[m == 3 ? 2 : 3], c);
+        q = select(larger, px[m], q);
+        best = select(larger, abs(area[m]), best);
+        signed_area = select(larger, area[m], signed_area);
+    }
+    const mask_t<T> flip = signed_area < T(0);
+    const Vec2<T> b_ccw = select(flip, c, b), c_ccw = select(flip, b, c);
+    // Insert the fourth corner after the edge it lies beyond
+    const mask_t<T> out0 = orient2(a, b_ccw, q) < T(0), out1 = orient2(b_ccw, c_ccw, q) < T(0), out2 = orient2(c_ccw, a, q) < T(0);
+    ok = ((ok && (best > T(0))) && !(out0 && out1)) && (!(out1 && out2) && !(out2 && out0));
+    Vec2<T> v[4];
+    v[0] = a;
+    v[1] = select(out0, q, b_ccw);
+    v[2] = select(out0, b_ccw, select(out1, q, c_ccw));
+    v[3] = select(out0 || out1, c_ccw, select(out2, q, (c_ccw + a) * T(0.5)));
+    // Pad the hull
+    T lo[2], hi[2];
+    T mag = T(0);
+    for (int k = 0; k < 2; ++k) {
+        lo[k] = min(min(px[0][k], px[1][k]), min(px[2][k], px[3][k]));
+        hi[k] = max(max(px[0][k], px[1][k]), max(px[2][k], px[3][k]));
+        mag = max(mag, max(abs(lo[k]), abs(hi[k])));
+    }
+    const T pad = (T(0.0625) + max(hi[0] - lo[0], hi[1] - lo[1]) * T(0.0009765625)) + mag * T(0.000030517578125);
+    mask_t<T> tight = ok && front;
+    ScreenQuad<T> out{};
+    for (int i = 0; i < 4; ++i) {
+        const Vec2<T> pc = detail::miter_vertex(v[(i + 3) % 4], v[i], v[(i + 1) % 4], pad, tight);
+        const Vec2<T> ndc = vec2(pc[0] / half_w, pc[1] / half_h);
+        tight = tight && (max(abs(ndc[0]), abs(ndc[1])) <= T(64));
+        out.corner[i] = select(behind && ok, vec2(T(2), T(2)), ndc);
+    }
+    out.visible = !(behind && ok);
+    out.tight = tight || !out.visible;
     return out;
 }
 

@@ -123,7 +123,8 @@ struct CastHit {
     Vec3<T> normal;
 };
 
-/// The clip test of the `planes` variants: dot(plane[i], (x, 1)) >= -2^-12 for all four planes.
+/// The clip test of the `planes` variants: dot(plane[i], (x, 1)) >= -clip_plane_slack (2^-12)
+/// for all four planes.
 /// The planes are stored scaled to 1 at the farthest corner (barycentric coordinates of a
 /// tetrahedron; for a quad, its four edges extruded along the quad's normal), so the slack is
 /// relative to the element's size. Neighbouring patches share edges, on which a hit lies on a
@@ -136,7 +137,7 @@ struct CastHit {
 template <class T>
 mask_t<T> inside_planes(const ClippedQuadric<T>& p, const Vec3<T>& x) {
     const Vec4<T> xh = vec4(x, T(1));
-    const T slack = T(-0.000244140625);
+    const T slack = T(-clip_plane_slack);
     return ((dot(p.planes[0], xh) >= slack && dot(p.planes[1], xh) >= slack) && dot(p.planes[2], xh) >= slack) &&
            dot(p.planes[3], xh) >= slack;
 }

@@ -318,6 +318,7 @@ public:
         GLint viewport[4] = {0, 0, 1, 1};
         gl.GetIntegerv(GL_VIEWPORT, viewport);
         cull_pass = cull_pass && count_ > 0;  // (no primitives: nothing to cull, nothing drawn)
+        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, planes_);  // (the bounds pass reads them too; a scene pass may have unbound them)
         if (cull_pass && cull_queries_used_ < 2) {  // (the shadow map's pass and the camera's)
             GLuint& q = cull_queries_[cull_queries_used_++];
             if (!q) gl.GenQueries(1, &q);

@@ -49,7 +49,8 @@ const char* environment_uniforms =
 /// (quadcast::RectBound of the variant; general variants only) the NDC rectangle
 /// `primitive_rect_ellipsoid` (corners (lo, lo), (hi, lo), (hi, hi), (lo, hi), at w = 1) or the
 /// quadrilateral `primitive_quad_slab` (turned to the projected axis; with `qc_slab_quad`, else
-/// the rectangle `primitive_rect_slab`) when it is tight;
+/// the rectangle `primitive_rect_slab`), with `qc_bound` 3 the hull of the projected tetrahedron
+/// of the clip planes (`primitive_quad_tetra`; record `prim`'s planes) when it is tight;
 /// otherwise, and with `qc_bound` 0 (sphere-bound variants, or tight bounds off), the quad around
 /// the bounding sphere (`primitive_bound_*`, the near-plane rectangle when the eye is inside the
 /// sphere). The vertex stage picks corner k into `clip`; with `all_corners` the four corners go
@@ -64,7 +65,12 @@ std::string bound_glsl(const std::string& proj, bool rects, bool all_corners = f
              "        qc_primitive_rect_slab(qc_view_projection, q, qc_record_center(p), qc_record_radius(p), qc_record_axis(p), qc_record_half_length(p), qc_viewport, lo, hi, tight, visible);\n"
              "    vec2 qd[4];\n"
              "    if (qc_bound == 2 && qc_slab_quad)\n"
-             "        qc_primitive_quad_slab(qc_view_projection, q, qc_record_center(p), qc_record_radius(p), qc_record_axis(p), qc_record_half_length(p), qc_viewport, qd[0], qd[1], qd[2], qd[3], tight, visible);\n";
+             "        qc_primitive_quad_slab(qc_view_projection, q, qc_record_center(p), qc_record_radius(p), qc_record_axis(p), qc_record_half_length(p), qc_viewport, qd[0], qd[1], qd[2], qd[3], tight, visible);\n"
+             "    else if (qc_bound == 3) {\n"
+             "        qc_Planes pl = qc_planes[prim - qc_first];\n"
+             "        qc_primitive_quad_tetra(qc_view_projection, pl.p[0], pl.p[1], pl.p[2], pl.p[3], qc_record_center(p), qc_viewport, qd[0], qd[1], qd[2], qd[3], tight, visible);\n"
+             "    }\n"
+             "    bool quad = (qc_bound == 2 && qc_slab_quad) || qc_bound == 3;\n";
     // The sphere's quad, when it is used: its four view-space corners (the near-plane rectangle where not valid).
     const std::string sphere_quad = std::string("        vec3 c0, c1, c2, c3;\n        bool valid;\n"
          "        qc_primitive_bound_") + proj + "(qc_view, qc_record_center(p), qc_record_radius(p), c0, c1, c2, c3, valid);\n"
@@ -72,7 +78,7 @@ std::string bound_glsl(const std::string& proj, bool rects, bool all_corners = f
     if (all_corners) {
         m << "    vec4 clips[4];\n";
         if (rects)
-            m << "    if (tight && qc_bound == 2 && qc_slab_quad) {\n"
+            m << "    if (tight && quad) {\n"
                  "        for (int k = 0; k < 4; ++k) clips[k] = vec4(qd[k], 0.0, 1.0);\n"
                  "    } else if (tight) {\n";
         else
@@ -85,7 +91,7 @@ std::string bound_glsl(const std::string& proj, bool rects, bool all_corners = f
     }
     m << "    vec4 clip;\n";
     if (rects)
-        m << "    if (tight && qc_bound == 2 && qc_slab_quad) {\n"
+        m << "    if (tight && quad) {\n"
              "        clip = vec4(qd[k], 0.0, 1.0);\n"
              "    } else if (tight) {\n";
     else
@@ -96,6 +102,13 @@ std::string bound_glsl(const std::string& proj, bool rects, bool all_corners = f
          "    }\n";
     return m.str();
 }
+
+/// The clip planes of the planes variant (one set per record of the draw, index prim - qc_first),
+/// read by the fragment stage's clip test and by the bounding geometry of `qc_bound` 3.
+const char* planes_glsl =
+    "// Clip planes of the `planes` variant, one set per primitive of the draw (index prim - qc_first).\n"
+    "struct qc_Planes { vec4 p[4]; };\n"
+    "layout(std430, binding = 1) readonly buffer qc_PlaneSets { qc_Planes qc_planes[]; };\n";
 
 const char* bound_uniforms =
     "uniform mat4 qc_view;\nuniform mat4 qc_projection;\nuniform mat4 qc_view_projection;\n"
@@ -128,12 +141,13 @@ Stage vertex_shader(bool ortho) {
     add_kernel(s, fns, "primitive_rect_ellipsoid");
     add_kernel(s, fns, "primitive_rect_slab");
     add_kernel(s, fns, "primitive_quad_slab");
+    add_kernel(s, fns, "primitive_quad_tetra");
     add_kernel(s, fns, "primitive_bound_" + proj);
     add_kernel(s, fns, "clip_position");
     if (!ortho) add_kernel(s, fns, "primitive_cull");
     add_kernel(s, fns, "nearest_distance");
     std::ostringstream m;
-    m << record_glsl;
+    m << record_glsl << planes_glsl;
     m << bound_uniforms << "uniform bool qc_slab_quad;        // slab bounds: the quadrilateral along the axis, else the rectangle\n"
          "uniform vec3 qc_eye;\nuniform bool qc_cull;\nuniform bool qc_caps;   // the variant closes a slab with caps\n\n"
          "flat out uint qc_prim;\nflat out float qc_nearest;  // nearest view distance of the bounding sphere (the fragment stage's occlusion test)\n\n";
@@ -233,10 +247,7 @@ Stage fragment_shader(const render::QuadricKey& k) {
     std::ostringstream m;
     if (!sphere) m << record_glsl;
     if (planes)
-        m << "// Clip planes of the `planes` variant, one set per primitive of the draw (index prim - qc_first).\n"
-             "struct qc_Planes { vec4 p[4]; };\n"
-             "layout(std430, binding = 1) readonly buffer qc_PlaneSets { qc_Planes qc_planes[]; };\n"
-             "uniform uint qc_first;\n\n";
+        m << planes_glsl << "uniform uint qc_first;\n\n";
     if (brute)
         m << "uniform mat4 qc_inv_view_proj;  // brute force: the pixel's ray from gl_FragCoord\n"
              "uniform vec3 qc_eye;\nuniform vec2 qc_viewport;\n";
@@ -635,13 +646,14 @@ Stage bounds_shader(bool sphere, bool ortho) {
         add_kernel(s, fns, "primitive_rect_ellipsoid");
         add_kernel(s, fns, "primitive_rect_slab");
         add_kernel(s, fns, "primitive_quad_slab");
+        add_kernel(s, fns, "primitive_quad_tetra");
     }
     add_kernel(s, fns, "primitive_bound_" + proj);
     add_kernel(s, fns, "clip_position");
     if (!sphere && !ortho) add_kernel(s, fns, "primitive_cull");
     add_kernel(s, fns, "nearest_distance");
     std::ostringstream m;
-    m << "layout(local_size_x = 64) in;\n\n" << record_glsl << bound_uniforms
+    m << "layout(local_size_x = 64) in;\n\n" << record_glsl << (sphere ? "" : planes_glsl) << bound_uniforms
       << "layout(std430, binding = 4) readonly buffer qc_Visible { uint qc_visible[]; };\n"
          "layout(std430, binding = 5) readonly buffer qc_Commands { uint qc_command[]; };\n"
          "layout(std430, binding = 8) writeonly buffer qc_Corners { vec4 qc_corner[]; };     // 4 per slot\n"
@@ -655,7 +667,8 @@ Stage bounds_shader(bool sphere, bool ortho) {
          "    uint i = gl_GlobalInvocationID.x;\n"
          "    if (i >= qc_command[qc_command_at] / 6u) return;\n"
          "    uint slot = qc_first + i;\n"
-         "    qc_Primitive p = qc_prims[qc_visible[slot]];\n";
+         "    uint prim = qc_visible[slot];\n"
+         "    qc_Primitive p = qc_prims[prim];\n";
     if (!sphere) m << "    mat4 q = qc_record_quadric(p);\n";
     m << bound_glsl(proj, !sphere, true);
     if (!sphere && !ortho)

@@ -2,6 +2,8 @@
 // eye inside bounds, primitives across the near plane, perspective and orthographic cameras
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <random>
 #include <string>
 #include <vector>
@@ -81,6 +83,42 @@ inline std::vector<Primitive> every_kind(unsigned seed, float s, int per_kind) {
     return out;
 }
 
+/// The quadric x^T diag(a) x + k = 0 (a field of finite elements, say) cut into the Kuhn
+/// tetrahedra of an n^3 grid of cubes over [-s, s]^3: one `planes` primitive per tetrahedron the
+/// surface can cross (the field's range over the tetrahedron, bounded by its corners' values
+/// widened by its diameter's share of the gradient bound, holds 0).
+inline std::vector<Primitive> tetrahedral_pieces(const glm::dvec3& a, double k, int n, double s, const glm::vec3& color) {
+    std::vector<Primitive> out;
+    glm::dmat4 q(0.0);
+    for (int i = 0; i < 3; ++i) q[i][i] = a[i];
+    q[3][3] = k;
+    const double h = 2.0 * s / n;
+    const double grad = 2.0 * s * std::max({std::fabs(a.x), std::fabs(a.y), std::fabs(a.z)}) * std::sqrt(3.0);
+    auto f = [&](const glm::dvec3& x) { return a.x * x.x * x.x + a.y * x.y * x.y + a.z * x.z * x.z + k; };
+    const int perms[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
+    for (int z = 0; z < n; ++z)
+        for (int y = 0; y < n; ++y)
+            for (int x = 0; x < n; ++x)
+                for (const auto& pm : perms) {
+                    glm::dvec3 p[4];
+                    p[0] = glm::dvec3(-s + x * h, -s + y * h, -s + z * h);
+                    for (int j = 0; j < 3; ++j) {
+                        p[j + 1] = p[j];
+                        p[j + 1][pm[j]] += h;
+                    }
+                    double lo = 1e300, hi = -1e300;
+                    for (const auto& c : p) {
+                        lo = std::min(lo, f(c));
+                        hi = std::max(hi, f(c));
+                    }
+                    const double slack = grad * h * std::sqrt(3.0);
+                    if (lo - slack > 0 || hi + slack < 0) continue;
+                    out.push_back(shapes::quadric(q, shapes::TetrahedronBound{{glm::vec3(p[0]), glm::vec3(p[1]), glm::vec3(p[2]), glm::vec3(p[3])}},
+                                                  {color, 0.35f, 48.0f}));
+                }
+    return out;
+}
+
 /// The scenes: every kind seen in perspective from outside; from an eye inside an ellipsoid, a
 /// cylinder's and a sphere's bounds with primitives across the near plane; a near plane cutting
 /// through the scene; the same orthographic; long sticks seen along and across their axes.
@@ -114,6 +152,23 @@ inline std::vector<BoundsScene> bounds_scenes(int width, int height) {
         b.camera = look_at(vec3(0.5, 0.8, 3.0), vec3(0.0, 0.0, 0.0), vec3(0.0, 1.0, 0.0),
                            qc_render_test::orthographic(-3.0 * aspect, 3.0 * aspect, -3, 3, 1.5, 30), true);
         out.push_back(b);
+    }
+    {
+        // Tetrahedral pieces of a sphere and of a one-sheet hyperboloid, seen orthographically
+        // straight along z (faces parallel to the view: flat hulls) and in perspective from
+        // inside the mesh, close to the sphere (pieces across the near and eye planes).
+        BoundsScene b{"tetrahedral pieces, orthographic along z", tetrahedral_pieces({1, 1, 1}, -0.64, 6, 1.0, {0.8f, 0.4f, 0.3f}), {}};
+        const std::vector<Primitive> hyp = tetrahedral_pieces({1, -1, 1}, -0.1, 5, 0.7, {0.3f, 0.6f, 0.9f});
+        for (Primitive p : hyp) {
+            p.shape.center[0] += 1.8f;  // (moved beside the sphere: the field moves with its pieces' centres)
+            b.prims.push_back(p);
+        }
+        b.camera = look_at(vec3(0.9, 0.0, 5.0), vec3(0.9, 0.0, 0.0), vec3(0.0, 1.0, 0.0),
+                           qc_render_test::orthographic(-1.6 * aspect, 1.6 * aspect, -1.6, 1.6, 1, 10), true);
+        out.push_back(b);
+        BoundsScene c{"tetrahedral pieces, perspective from inside the mesh", b.prims, {}};
+        c.camera = look_at(vec3(0.2, 0.3, 0.95), vec3(0.0, 0.0, 0.0), vec3(0.0, 1.0, 0.0), qc_render_test::perspective(75, aspect, 0.25, 30));
+        out.push_back(c);
     }
     {
         // Sticks (capped cylinders of length 0.05, radius 0.005) seen at an angle and along z.

@@ -50,8 +50,9 @@ V3 ldg(const glm::vec3& v) { return vec3(LD(v[0]), LD(v[1]), LD(v[2])); }
 /// One primitive with what an independent tracer needs to know of it.
 struct Traced {
     Primitive prim;
-    int kind;  // 0 sphere, 1 ellipsoid, 2 cylinder, 3 cone, 4 bounding sphere only
+    int kind;  // 0 sphere, 1 ellipsoid, 2 cylinder, 3 cone, 4 bounding sphere only, 5 sphere in a tetrahedron
     V3 a, b;   // centre / p0 / apex ; p1 / base
+    V3 tet[4]; // kind 5: the tetrahedron's corners
     LD r = 0;
     glm::vec3 radii{};
     glm::mat3 rot{1.0f};
@@ -70,8 +71,36 @@ LD ellipsoid_hit(const V3& o, const V3& d, const Traced& t) {
     return sphere_hit(ou, du, vec3(LD(0), LD(0), LD(0)), 1);
 }
 
+LD det3(const V3& a, const V3& b, const V3& c) {
+    return a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) + a[2] * (b[0] * c[1] - b[1] * c[0]);
+}
+
+/// x lies in the tetrahedron: each corner's barycentric coordinate (ratio of volumes) >= 0.
+bool in_tet(const V3 (&p)[4], const V3& x) {
+    const LD v = det3(p[1] - p[0], p[2] - p[0], p[3] - p[0]);
+    for (int i = 0; i < 4; ++i) {
+        V3 q[4] = {p[0], p[1], p[2], p[3]};
+        q[i] = x;
+        if (det3(q[1] - q[0], q[2] - q[0], q[3] - q[0]) / v < 0) return false;
+    }
+    return true;
+}
+
+/// Nearest t > 0 where the ray meets the sphere (centre a, radius r) inside the tetrahedron.
+LD sphere_in_tet_hit(const V3& o, const V3& d, const Traced& t) {
+    const V3 oc = o - t.a;
+    const LD qa = dot_ld(d, d), qb = dot_ld(oc, d), qc = dot_ld(oc, oc) - t.r * t.r;
+    const LD disc = qb * qb - qa * qc;
+    if (disc < 0) return -1;
+    const LD s = std::sqrt(disc);
+    for (const LD th : {(-qb - s) / qa, (-qb + s) / qa})
+        if (th > 0 && in_tet(t.tet, o + d * th)) return th;
+    return -1;
+}
+
 LD traced_hit(const Traced& t, const V3& o, const V3& d) {
     switch (t.kind) {
+    case 5: return sphere_in_tet_hit(o, d, t);
     case 0: return sphere_hit(o, d, t.a, t.r);
     case 1: return ellipsoid_hit(o, d, t);
     case 2: return tube_hit(o, d, t.a, t.b, t.r, t.cap0, t.cap1);
@@ -123,8 +152,29 @@ Traced random_traced(std::mt19937& rng, int kind) {
         t.cap1 = cap;
         break;
     }
+    case 5: {
+        // A sphere through a random tetrahedron (a regular-ish one, a flat one, a needle).
+        const float e = 2.0f * r(rng);
+        glm::vec3 q[4];
+        for (int i = 0; i < 4; ++i) q[i] = c + glm::vec3(u(rng), u(rng), u(rng)) * e;
+        const int shape = std::uniform_int_distribution<int>(0, 2)(rng);
+        if (shape == 1) q[3] = (q[0] + q[1] + q[2]) / 3.0f + dir * (0.05f * e);
+        if (shape == 2) q[1] = q[0] + (q[1] - q[0]) * 0.05f;
+        const glm::vec3 inside = (q[0] + q[1] + q[2] + q[3]) * 0.25f;
+        const glm::vec3 m = inside + glm::vec3(u(rng), u(rng), u(rng)) * e;
+        const float rr = glm::length(inside - m) * (0.8f + 0.4f * (u(rng) + 1.0f) * 0.5f);
+        glm::dmat4 qs(0.0);
+        qs[0][0] = qs[1][1] = qs[2][2] = 1.0;
+        qs[3][0] = qs[0][3] = -double(m.x); qs[3][1] = qs[1][3] = -double(m.y); qs[3][2] = qs[2][3] = -double(m.z);
+        qs[3][3] = glm::dot(glm::dvec3(m), glm::dvec3(m)) - double(rr) * double(rr);
+        t.prim = shapes::quadric(qs, shapes::TetrahedronBound{{q[0], q[1], q[2], q[3]}});
+        t.a = ldg(m);
+        t.r = rr;
+        for (int i = 0; i < 4; ++i) t.tet[i] = ldg(q[i]);
+        break;
+    }
     default: {
-        // A quad and a tetrahedron-bounded quadric: their rectangle is the bounding sphere's.
+        // A quad: its rectangle is the bounding sphere's (planar) or its tetrahedron's.
         const float w = r(rng);
         t.prim = shapes::quad(c, c + glm::vec3(w, 0, 0.3f * w), c + glm::vec3(w, w, -0.2f * w), c + glm::vec3(0, w, 0.4f * w));
         break;
@@ -143,9 +193,10 @@ TEST_CASE("a tight rectangle and a slab's quadrilateral hold every pixel an inde
     const int w = 96, h = 72;
     long covered = 0, missed = 0, tight_count = 0, count = 0, area_tight = 0, area_sphere = 0;
     long quad_count = 0, quad_tight_count = 0, missed_quad = 0, area_rect_slab = 0, area_quad_slab = 0;
-    for (int it = 0; it < 400; ++it) {
+    long tet_count = 0, tet_tight_count = 0, missed_tet = 0, covered_tet = 0, area_rect_tet = 0, area_quad_tet = 0, area_sphere_tet = 0;
+    for (int it = 0; it < 480; ++it) {
         std::mt19937 rng = rng_for(7, static_cast<std::uint32_t>(it));
-        const int kind = it % 5;
+        const int kind = it % 6;
         const Traced t = random_traced(rng, kind);
         const bool ortho = it % 3 == 2;
         const Vec3<double> dir = random_dir(rng);
@@ -155,8 +206,8 @@ TEST_CASE("a tight rectangle and a slab's quadrilateral hold every pixel an inde
         const Mat4<float> proj = ortho ? qc_render_test::orthographic(-1.5, 1.5, -1.1, 1.1, 0.1, 30) : qc_render_test::perspective(uniform(rng, 20, 90), double(w) / h, 0.1, 30);
         const Camera cam = qc_render_test::look_at(eye, target, std::fabs(dir[1]) < 0.9 ? vec3(0.0, 1.0, 0.0) : vec3(1.0, 0.0, 0.0), proj, ortho);
         const FrameSetup f = frame_setup(cam, w, h);
-        const PixelRect tight = primitive_pixels(t.prim, f, true);
         const PixelRect sphere = primitive_pixels(t.prim, f, false);
+        const PixelRect tight = kind == 4 ? sphere : primitive_pixels(t.prim, f, true);
         ++count;
         const ClippedQuadric<float>& s = t.prim.shape;
         const Vec2<float> vp = vec2(float(w), float(h));
@@ -165,6 +216,7 @@ TEST_CASE("a tight rectangle and a slab's quadrilateral hold every pixel an inde
         case RectBound::sphere: is_tight = primitive_rect<RectBound::sphere>(f.view_projection, s.q, s.center, s.radius, s.axis, s.half_length, vp).tight; break;
         case RectBound::ellipsoid: is_tight = primitive_rect<RectBound::ellipsoid>(f.view_projection, s.q, s.center, s.radius, s.axis, s.half_length, vp).tight; break;
         case RectBound::slab: is_tight = primitive_rect<RectBound::slab>(f.view_projection, s.q, s.center, s.radius, s.axis, s.half_length, vp).tight; break;
+        case RectBound::tetrahedron: is_tight = tetra_quad(f.view_projection, s.planes, s.center, vp).tight; break;
         }
         tight_count += is_tight;
         auto area = [](const PixelRect& r) { return r.x0 > r.x1 ? 0L : long(r.x1 - r.x0 + 1) * (r.y1 - r.y0 + 1); };
@@ -173,10 +225,14 @@ TEST_CASE("a tight rectangle and a slab's quadrilateral hold every pixel an inde
         // The slab kinds' quadrilateral along the projected axis, in window pixels
         bool has_quad = false;
         double qx[4], qy[4];
-        if (rect_bound(t.prim.variant) == RectBound::slab) {
-            const ScreenQuad<float> q = slab_quad(f.view_projection, s.q, s.center, s.axis, s.half_length, vp);
+        // (Quads, kind 4, are traced as their bounding sphere: only the images with tight bounds on
+        // and off check their quadrilaterals.)
+        const bool tet_bound = kind == 5;
+        if (rect_bound(t.prim.variant) == RectBound::slab || tet_bound) {
+            const ScreenQuad<float> q = tet_bound ? tetra_quad(f.view_projection, s.planes, s.center, vp)
+                                                  : slab_quad(f.view_projection, s.q, s.center, s.axis, s.half_length, vp);
             has_quad = q.tight && q.visible && is_tight;
-            quad_tight_count += q.tight;
+            (tet_bound ? tet_tight_count : quad_tight_count) += q.tight;
             for (int i = 0; i < 4; ++i) {
                 qx[i] = (double(q.corner[i][0]) + 1.0) * 0.5 * w;
                 qy[i] = (double(q.corner[i][1]) + 1.0) * 0.5 * h;
@@ -192,14 +248,17 @@ TEST_CASE("a tight rectangle and a slab's quadrilateral hold every pixel an inde
             return true;
         };
         if (has_quad) {
-            ++quad_count;
+            ++(tet_bound ? tet_count : quad_count);
+            long& in_rect = tet_bound ? area_rect_tet : area_rect_slab;
+            long& in_q = tet_bound ? area_quad_tet : area_quad_slab;
             for (int y = 0; y < h; ++y)
                 for (int x = 0; x < w; ++x)
                     if (x >= tight.x0 && x <= tight.x1 && y >= tight.y0 && y <= tight.y1) {
-                        ++area_rect_slab;
-                        area_quad_slab += in_quad(x, y);
+                        ++in_rect;
+                        in_q += in_quad(x, y);
                     }
         }
+        if (tet_bound) area_sphere_tet += area(sphere);
         const ExactCamera ec(cam, w, h);
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x) {
@@ -217,10 +276,12 @@ TEST_CASE("a tight rectangle and a slab's quadrilateral hold every pixel an inde
                         std::printf("[tight rect] iteration %d kind %d %s: covered pixel (%d, %d) outside [%d, %d] x [%d, %d]\n", it, kind,
                                     ortho ? "ortho" : "perspective", x, y, tight.x0, tight.x1, tight.y0, tight.y1);
                 }
+                if (tet_bound) ++covered_tet;
                 if (has_quad && !in_quad(x, y)) {
-                    ++missed_quad;
-                    if (missed_quad < 10)
-                        std::printf("[slab quad] iteration %d kind %d %s: covered pixel (%d, %d) outside the quad\n", it, kind, ortho ? "ortho" : "perspective", x, y);
+                    ++(tet_bound ? missed_tet : missed_quad);
+                    if (missed_quad + missed_tet < 10)
+                        std::printf("[%s quad] iteration %d kind %d %s: covered pixel (%d, %d) outside the quad\n", tet_bound ? "tetrahedron" : "slab", it, kind,
+                                    ortho ? "ortho" : "perspective", x, y);
                 }
             }
     }
@@ -228,6 +289,13 @@ TEST_CASE("a tight rectangle and a slab's quadrilateral hold every pixel an inde
                 count, tight_count, covered, missed, area_tight, area_sphere);
     std::printf("[slab quad] %ld slab primitives drawn over their quadrilateral (%ld tight), %ld covered pixels outside it; %ld px inside the quadrilaterals against %ld px in the rectangles\n",
                 quad_count, quad_tight_count, missed_quad, area_quad_slab, area_rect_slab);
+    std::printf("[tetrahedron quad] %ld primitives clipped to a tetrahedron drawn over their quadrilateral (%ld tight), %ld covered pixels, %ld outside it; "
+                "%ld px inside the quadrilaterals, %ld px in their rectangles, %ld px in the bounding spheres' rectangles\n",
+                tet_count, tet_tight_count, covered_tet, missed_tet, area_quad_tet, area_rect_tet, area_sphere_tet);
+    CHECK(tet_count > 30);
+    CHECK(covered_tet > 500);
+    CHECK(missed_tet == 0);
+    CHECK(area_quad_tet < area_rect_tet);
     CHECK(quad_count > 40);
     CHECK(missed_quad == 0);
     CHECK(area_quad_slab < area_rect_slab);

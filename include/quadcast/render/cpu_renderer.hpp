@@ -270,11 +270,27 @@ inline PixelRect ndc_pixels(const Vec2<float>& lo, const Vec2<float>& hi, const 
     return r;
 }
 
+/// The rectangle around a `ScreenQuad`'s corners (the CPU reference draws rectangles; the GL
+/// vertex stage the quadrilateral itself).
+inline ScreenRect<float> quad_rect(const ScreenQuad<float>& q) {
+    ScreenRect<float> r{};
+    r.lo = r.hi = q.corner[0];
+    for (int i = 1; i < 4; ++i)
+        for (int k = 0; k < 2; ++k) {
+            r.lo[k] = std::min(r.lo[k], q.corner[i][k]);
+            r.hi[k] = std::max(r.hi[k], q.corner[i][k]);
+        }
+    r.tight = q.tight;
+    r.visible = q.visible;
+    return r;
+}
+
 /// The pixels the renderers draw a primitive over: `screen_rect` (the bounding sphere's quad,
 /// with the early-outs behind the eye and outside the depth range), and with `tight` for the
 /// ellipsoid and slab variants its intersection with the primitive's rectangle (`primitive_rect`
-/// of `rect_bound(variant)`, the floats the GL vertex stage computes) where that is tight (empty
-/// where it is not visible).
+/// of `rect_bound(variant)`, the floats the GL vertex stage computes), for the planes variant with
+/// the rectangle around its tetrahedron's quadrilateral (`tetra_quad`), where that is tight
+/// (empty where it is not visible).
 inline PixelRect primitive_pixels(const Primitive& p, const FrameSetup& f, bool tight) {
     const PixelRect sphere = screen_rect(p.shape, f);
     if (!tight || sphere.x0 > sphere.x1 || rect_bound(p.variant) == RectBound::sphere) return sphere;
@@ -285,6 +301,7 @@ inline PixelRect primitive_pixels(const Primitive& p, const FrameSetup& f, bool 
     case RectBound::sphere: return sphere;
     case RectBound::ellipsoid: r = primitive_rect<RectBound::ellipsoid>(f.view_projection, s.q, s.center, s.radius, s.axis, s.half_length, viewport); break;
     case RectBound::slab: r = primitive_rect<RectBound::slab>(f.view_projection, s.q, s.center, s.radius, s.axis, s.half_length, viewport); break;
+    case RectBound::tetrahedron: r = quad_rect(tetra_quad(f.view_projection, s.planes, s.center, viewport)); break;
     }
     if (!r.tight) return sphere;
     if (!r.visible) return PixelRect{};

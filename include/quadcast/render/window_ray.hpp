@@ -55,10 +55,14 @@ inline Mat4<float> view_projection(const Camera& cam) {
     return cast<float>(cast<double>(cam.projection) * cast<double>(cam.view));
 }
 
-/// The `primitive_rect` bound of a variant: the ellipsoid for ellipsoids, the hull of the slab
-/// sections for (open) slabs, the bounding sphere otherwise.
+/// The tight bound of a variant: the ellipsoid for ellipsoids, the hull of the slab sections for
+/// (open) slabs, the projected tetrahedron of the clip planes for the planes variant, the
+/// bounding sphere otherwise.
 constexpr RectBound rect_bound(Variant v) {
-    return v == Variant::ellipsoid ? RectBound::ellipsoid : (v == Variant::slab || v == Variant::open_slab) ? RectBound::slab : RectBound::sphere;
+    return v == Variant::ellipsoid                             ? RectBound::ellipsoid
+           : (v == Variant::slab || v == Variant::open_slab) ? RectBound::slab
+           : v == Variant::planes                              ? RectBound::tetrahedron
+                                                               : RectBound::sphere;
 }
 
 }  // namespace quadcast::render
