@@ -134,7 +134,7 @@ struct SkinSurface::Impl {
     Stats stats;
 };
 
-SkinSurface::SkinSurface(const std::vector<scene::SkinBall>& balls, double shrink) : impl_(std::make_unique<Impl>()) {
+SkinSurface::SkinSurface(const std::vector<scene::SkinBall>& balls, double shrink, int refine_levels) : impl_(std::make_unique<Impl>()) {
     validate(balls, shrink);
     Impl& m = *impl_;
     m.stats.balls = balls.size();
@@ -246,13 +246,24 @@ SkinSurface::SkinSurface(const std::vector<scene::SkinBall>& balls, double shrin
         // A flat cell (CGAL's triangulation may hold slivers) covers nothing.
         const double vol6 = std::fabs(dot(p[1] - p[0], cross(p[2] - p[0], p[3] - p[0])));
         if (!(vol6 > 1e-12 * longest * longest * longest)) continue;
+        // Smaller clip tetrahedra where the surface fills little of the cell (same quadric).
+        ++m.stats.cells_crossed;
+        BoundingTet<double> cell_tet{};
+        for (int k = 0; k < 4; ++k) cell_tet.p[k] = p[std::size_t(k)] - mid;
+        std::vector<BoundingTet<double>> parts;
+        // (Parts stay 2^-12 of the coordinates' magnitude or larger: the primitives hold float corners.)
+        const double magnitude = std::max({std::fabs(mid[0]), std::fabs(mid[1]), std::fabs(mid[2]), 1.0});
+        bb::refine_crossing(local, cell_tet, refine_levels, 4, magnitude * 0.000244140625, parts);
         Piece piece;
-        piece.tet = p;
         piece.q = translate_to_eye(local, mid * -1.0);
         piece.ball = anchor_ball(c->info().first, mid);
         piece.cell = m.surfaces.size();
+        piece.cell_tet = p;
         m.surfaces.push_back(s);
-        m.pieces.push_back(piece);
+        for (const BoundingTet<double>& t : parts) {
+            for (int k = 0; k < 4; ++k) piece.tet[std::size_t(k)] = t.p[k] + mid;
+            m.pieces.push_back(piece);
+        }
     }
     m.stats.pieces = m.pieces.size();
     m.stats.seconds_pieces = seconds_since(t1);

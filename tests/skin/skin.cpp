@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "quadcast/bb/quadric_form.hpp"
 #include "quadcast/gl/osmesa_context.hpp"
 #include "quadcast/gl/quadric_renderer.hpp"
 #include "quadcast/render/cpu_renderer.hpp"
@@ -366,6 +367,110 @@ TEST_CASE("a small molecule's skin: GL draws what the CPU reference draws, culli
             CHECK(d.max_depth < 1e-4);
             CHECK(pinholes(g, 240, 180) == 0);
         }
+}
+
+/// The primitives of a skin's pieces (as the scene path makes them), in one colour.
+std::vector<render::Primitive> skin_primitives(const skin::SkinSurface& skin) {
+    std::vector<render::Primitive> out;
+    for (const skin::Piece& p : skin.pieces()) {
+        glm::dmat4 q;
+        for (int j = 0; j < 4; ++j)
+            for (int i = 0; i < 4; ++i) q[j][i] = p.q.q[j][i];
+        shapes::TetrahedronBound tb{};
+        for (std::size_t k = 0; k < 4; ++k) tb.corners[k] = glm::vec3(float(p.tet[k][0]), float(p.tet[k][1]), float(p.tet[k][2]));
+        out.push_back(shapes::quadric(q, tb, {{0.8f, 0.6f, 0.4f}}));
+    }
+    return out;
+}
+
+TEST_CASE("refined clip tetrahedra hold every surface point of their cell and draw the same skin from fewer fragments") {
+    scene_test::require_pymol_data();
+    std::ifstream in(scene_test::pymol_demo() / "1tii.pdb");
+    std::string line;
+    std::vector<scene::SkinBall> balls;
+    Vec3d centre{{0, 0, 0}};
+    while (std::getline(in, line) && balls.size() < 80)
+        if (line.rfind("ATOM", 0) == 0) {
+            const Vec3d c{{std::stod(line.substr(30, 8)), std::stod(line.substr(38, 8)), std::stod(line.substr(46, 8))}};
+            balls.push_back({c, 1.6, {}});
+            centre = centre + c;
+        }
+    centre = centre * (1.0 / double(balls.size()));
+    const skin::SkinSurface whole(balls, 0.5, 0), refined(balls, 0.5, 2);
+    REQUIRE(whole.stats().cells_crossed == refined.stats().cells_crossed);
+    CHECK(whole.pieces().size() == whole.stats().cells_crossed);
+    // Every point of the surface in a cell lies in a kept clip tetrahedron of that cell: points
+    // pulled onto CGAL's own function of the cell by Newton steps from random points of the cell
+    // (kept when they stay inside it), against the kept tetrahedra in long double.
+    std::map<std::size_t, std::vector<std::array<Vec3d, 4>>> kept;
+    std::map<std::size_t, std::array<Vec3d, 4>> cells;
+    for (const skin::Piece& p : refined.pieces()) {
+        kept[p.cell].push_back(p.tet);
+        cells[p.cell] = p.cell_tet;
+    }
+    std::mt19937 rng(5);
+    long samples = 0, outside = 0;
+    double volume_whole = 0, volume_kept = 0;
+    const auto vol = [](const std::array<Vec3d, 4>& t) { return std::fabs(dot(t[1] - t[0], cross(t[2] - t[0], t[3] - t[0]))) / 6.0; };
+    const auto inside = [](const std::array<Vec3d, 4>& t, const Vec3d& x) {
+        using LD = long double;
+        const auto det = [](const Vec3d& a, const Vec3d& b, const Vec3d& c) {
+            return LD(a[0]) * (LD(b[1]) * c[2] - LD(b[2]) * c[1]) - LD(a[1]) * (LD(b[0]) * c[2] - LD(b[2]) * c[0]) + LD(a[2]) * (LD(b[0]) * c[1] - LD(b[1]) * c[0]);
+        };
+        const LD v = det(t[1] - t[0], t[2] - t[0], t[3] - t[0]);
+        for (int i = 0; i < 4; ++i) {
+            std::array<Vec3d, 4> q = t;
+            q[std::size_t(i)] = x;
+            if (det(q[1] - q[0], q[2] - q[0], q[3] - q[0]) / v < -1e-9L) return false;
+        }
+        return true;
+    };
+    for (const auto& [cell, tet] : cells) {
+        volume_whole += vol(tet);
+        for (const auto& t : kept[cell]) volume_kept += vol(t);
+        for (int n = 0; n < 40; ++n) {
+            Vec3d x = random_point(rng, tet);
+            for (int it = 0; it < 30; ++it) {
+                const Vec3d g = refined.cell_gradient(cell, x);
+                const double gg = dot(g, g);
+                if (!(gg > 0)) break;
+                x = x - g * (refined.cell_value(cell, x) / gg);
+            }
+            if (!(std::fabs(refined.cell_value(cell, x)) < 1e-9) || !inside(tet, x)) continue;
+            ++samples;
+            bool found = false;
+            for (const auto& t : kept[cell]) found = found || inside(t, x);
+            outside += !found;
+        }
+    }
+    // The same picture (the same quadrics, clipped to smaller tetrahedra) from fewer fragments.
+    const int w = 240, h = 180;
+    const render::Camera cam = qc_render_test::look_at(vec3(centre[0] + 12, centre[1] + 9, centre[2] + 30), vec3(centre[0], centre[1], centre[2]),
+                                                       vec3(0.0, 1.0, 0.0), qc_render_test::perspective(30, double(w) / h, 5, 100));
+    render::Light light;
+    render::RenderOptions o;
+    o.width = w;
+    o.height = h;
+    render::FrameStats sw, sr;
+    const render::Image a = render::render_cpu(skin_primitives(whole), cam, light, o, &sw);
+    const render::Image b = render::render_cpu(skin_primitives(refined), cam, light, o, &sr);
+    const qc_render_test::ImageDiff d = qc_render_test::image_diff(a, b, 1);
+    std::printf("[skin refinement] %zu atoms: %zu crossed cells -> %zu clip tetrahedra (%.1f%% of the cells' volume); %ld surface points, %ld outside "
+                "every kept tetrahedron; CPU image %ld covered px, %ld coverage / %ld colour (> 1 LSB) differences, max depth difference %.2g; "
+                "fragments cast %llu -> %llu (%.2fx fewer)\n",
+                balls.size(), whole.stats().cells_crossed, refined.pieces().size(), 100.0 * volume_kept / volume_whole, samples, outside, d.covered,
+                d.coverage_diff, d.color_diff, d.max_depth, static_cast<unsigned long long>(sw.fragments), static_cast<unsigned long long>(sr.fragments),
+                double(sw.fragments) / double(std::max<std::uint64_t>(1, sr.fragments)));
+    CHECK(samples > 20000);
+    CHECK(outside == 0);
+    CHECK(volume_kept < 0.5 * volume_whole);
+    CHECK(d.covered > 5000);
+    CHECK(d.coverage_diff <= d.covered / 2000);
+    CHECK(d.color_diff <= d.covered / 500);
+    // (Depths differ where neighbouring cells' pieces overlap within the clip test's slack, 2^-12
+    // of a clip tetrahedron: smaller for the refined ones; as between GL and the CPU above.)
+    CHECK(d.max_depth < 1e-4);
+    CHECK(sr.fragments < sw.fragments);
 }
 
 // Figures, not a check (minutes: CGAL's mesh refinement); run it with

@@ -107,7 +107,8 @@ Diff image_diff(const render::Image& a, const render::Image& b) {
 /// QSS drawn two ways on the same views, frames interleaved: Kalbe & Zeilfelder's per-cube
 /// Bézier ray casting (the isosurface renderer) and Stoll et al.'s quadrics clipped to the
 /// relevant tetrahedra (shapes::isosurface_quadrics drawn by the quadric renderer, with and
-/// without its occlusion cull pass).
+/// without its occlusion cull pass, and with the bounds written by its compute pass,
+/// QuadricRenderer::set_compute_bounds).
 void compare_qss_methods(Gl& gl, const render::VolumeModel& m, const render::Light& light, const render::RenderOptions& o, const IsoBenchOptions& a) {
     const auto t0 = std::chrono::steady_clock::now();
     const std::vector<render::Primitive> pieces = shapes::isosurface_quadrics(m);
@@ -124,8 +125,8 @@ void compare_qss_methods(Gl& gl, const render::VolumeModel& m, const render::Lig
                 dset_bytes / double(std::max<std::size_t>(relevant, 1)));
     std::printf("  quadric: %zu pieces built in %.0f ms from the prepared model, %.0f B of primitive record per piece kept on the GPU\n",
                 pieces.size(), conv, record_bytes);
-    std::printf("%-9s %12s %12s %8s %16s %8s %10s %10s %10s %10s\n", "view", "bezier ms", "quadric ms", "ratio", "quadric no occl", "ratio",
-                "covered", "cov diff", "isolated", "max depth");
+    std::printf("%-9s %12s %12s %8s %16s %8s %13s %8s %10s %10s %10s %10s\n", "view", "bezier ms", "quadric ms", "ratio", "quadric no occl", "ratio",
+                "quadric comp", "ratio", "covered", "cov diff", "isolated", "max depth");
     render::RenderOptions oq = o;
     oq.culling = false;  // isosurface pieces are two-sided (render::isosurface_culling_note)
     render::RenderOptions no_occl = oq;
@@ -135,7 +136,11 @@ void compare_qss_methods(Gl& gl, const render::VolumeModel& m, const render::Lig
         gl.frame(cam, light, o);
         stoll.draw(cam, light, oq);  // warm-up: compiles the variants
         stoll.draw(cam, light, no_occl);
-        std::vector<double> tb, tq, tn;
+        stoll.set_compute_bounds(true);
+        stoll.draw(cam, light, oq);
+        const render::Image comp = stoll.read();
+        stoll.set_compute_bounds(false);
+        std::vector<double> tb, tq, tn, tc;
         for (int i = 0; i < a.frames; ++i) {
             tb.push_back(gl.frame(cam, light, o));
             auto t1 = std::chrono::steady_clock::now();
@@ -144,6 +149,11 @@ void compare_qss_methods(Gl& gl, const render::VolumeModel& m, const render::Lig
             t1 = std::chrono::steady_clock::now();
             stoll.draw(cam, light, no_occl);
             tn.push_back(ms_since(t1));
+            stoll.set_compute_bounds(true);
+            t1 = std::chrono::steady_clock::now();
+            stoll.draw(cam, light, oq);
+            tc.push_back(ms_since(t1));
+            stoll.set_compute_bounds(false);
         }
         gl.frame(cam, light, o);
         const render::Image bez = gl.quadrics.read();
@@ -154,9 +164,12 @@ void compare_qss_methods(Gl& gl, const render::VolumeModel& m, const render::Lig
             render::write_png(a.png + (dist > 1 ? "_whole" : "_closeup") + "_qss_quadric.png", quad);
         }
         const Diff d = image_diff(quad, bez);
+        const Diff dc = image_diff(comp, quad);
+        if (dc.coverage != 0 || dc.depth != 0)
+            std::printf("the compute pass's bounds changed the quadric image: %ld coverage differences, max depth difference %.2g\n", dc.coverage, dc.depth);
         const double b = median(tb);
-        std::printf("%-9s %12.1f %12.1f %7.2fx %16.1f %7.2fx %10ld %10ld %10ld %10.2g\n", dist > 1 ? "whole" : "close-up", b, median(tq), b / median(tq),
-                    median(tn), b / median(tn), d.covered, d.coverage, d.isolated, d.depth);
+        std::printf("%-9s %12.1f %12.1f %7.2fx %16.1f %7.2fx %13.1f %7.2fx %10ld %10ld %10ld %10.2g\n", dist > 1 ? "whole" : "close-up", b, median(tq), b / median(tq),
+                    median(tn), b / median(tn), median(tc), b / median(tc), d.covered, d.coverage, d.isolated, d.depth);
     }
     std::printf("(ratio > 1: the quadrics are faster; cov diff: pixels covered by one image only, isolated: of those, the ones with no\n"
                 " coverage edge next to them in the Bezier image; max depth: largest window-depth difference where both cover)\n");

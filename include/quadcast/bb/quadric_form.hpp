@@ -12,6 +12,11 @@
 // values f_ij; p(m_ij) = (c_{2e_i} + c_{2e_j}) / 4 + c_{e_i+e_j} / 2 gives
 // c_{2e_i} = f_i, c_{e_i+e_j} = 2 f_ij - (f_i + f_j) / 2.
 
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <vector>
+
 #include "quadcast/bb/bezier.hpp"
 #include "quadcast/quadric.hpp"
 #include "quadcast/ray.hpp"
@@ -72,6 +77,83 @@ Quadric<T> quadric_from_bezier(const BezierTet<T, 2>& b, const BoundingTet<T>& t
             q.q[r][c] = s;
         }
     return q;
+}
+
+/// The BB coefficient c_{e_i+e_j} of a quadric restricted to a tetrahedron with corners p_i, p_j:
+/// its blossom (p_i, 1)^T Q (p_j, 1) (c_{2e_i} = f(p_i)).
+/// Numerics: dot((a, 1), Q (b, 1)) with linalg's left folds.
+template <class T>
+T quadric_blossom(const Quadric<T>& q, const Vec3<T>& a, const Vec3<T>& b) {
+    return dot(vec4(a, T(1)), q.q * vec4(b, T(1)));
+}
+
+/// Whether the quadric's zero set can meet the tetrahedron: false only when its ten BB
+/// coefficients (`quadric_blossom`) all exceed 2^-40 of their largest magnitude with one sign
+/// (then, by the convex hull property, f keeps that sign on the whole tetrahedron; the margin
+/// covers the rounding of the coefficients).
+template <class T>
+bool quadric_may_cross(const Quadric<T>& q, const BoundingTet<T>& t) {
+    T lo = T(0), hi = T(0), big = T(0);
+    for (int i = 0; i < 4; ++i)
+        for (int j = i; j < 4; ++j) {
+            const T c = quadric_blossom(q, t.p[i], t.p[j]);
+            if (!(c == c)) return true;  // NaN: keep
+            lo = (i == 0 && j == 0) ? c : std::min(lo, c);
+            hi = (i == 0 && j == 0) ? c : std::max(hi, c);
+            big = std::max(big, std::fabs(c));
+        }
+    const T margin = big * T(9.094947017729282379150390625e-13);
+    return !(lo > margin || hi < -margin);
+}
+
+/// The eight children of Bey's red refinement of a tetrahedron (corners x_i, edge midpoints
+/// x_ij): the four corner tetrahedra (x_0, x_01, x_02, x_03), (x_01, x_1, x_12, x_13),
+/// (x_02, x_12, x_2, x_23), (x_03, x_13, x_23, x_3) and the inner octahedron cut along x_02 x_13
+/// into (x_01, x_02, x_03, x_13), (x_01, x_02, x_12, x_13), (x_02, x_03, x_13, x_23),
+/// (x_02, x_12, x_13, x_23). Together they tile the parent.
+template <class T>
+std::array<BoundingTet<T>, 8> red_refinement(const BoundingTet<T>& t) {
+    const Vec3<T>* x = t.p;
+    auto mid = [&](int i, int j) { return (x[i] + x[j]) * T(0.5); };
+    const Vec3<T> m01 = mid(0, 1), m02 = mid(0, 2), m03 = mid(0, 3), m12 = mid(1, 2), m13 = mid(1, 3), m23 = mid(2, 3);
+    return {BoundingTet<T>{{x[0], m01, m02, m03}}, BoundingTet<T>{{m01, x[1], m12, m13}}, BoundingTet<T>{{m02, m12, x[2], m23}},
+            BoundingTet<T>{{m03, m13, m23, x[3]}}, BoundingTet<T>{{m01, m02, m03, m13}}, BoundingTet<T>{{m01, m02, m12, m13}},
+            BoundingTet<T>{{m02, m03, m13, m23}}, BoundingTet<T>{{m02, m12, m13, m23}}};
+}
+
+/// Smaller clip tetrahedra for a quadric clipped to a tetrahedron whose zero set fills little
+/// of it (e.g. the cells of a skin's mixed complex): the parent is refined (`red_refinement`) and
+/// only the children the surface can cross (`quadric_may_cross`) are kept, as long as at most
+/// `max_kept` of the eight are and `levels` allows; then each kept child likewise. The kept
+/// tetrahedra hold every point of the zero set in the parent (each dropped child has none), so
+/// drawing the quadric clipped to each of them draws the same surface over a smaller screen area.
+/// Appends to `out`; the parent itself when refining does not pay or would keep a flat child
+/// (six times its volume at most 10^-3 of its longest edge cubed: the float corners of a primitive
+/// could make it flatter still) or one whose longest edge is
+/// shorter than `min_edge` (e.g. what the float coordinates of a primitive can still resolve).
+template <class T>
+void refine_crossing(const Quadric<T>& q, const BoundingTet<T>& t, int levels, int max_kept, const T& min_edge, std::vector<BoundingTet<T>>& out) {
+    if (levels > 0) {
+        const std::array<BoundingTet<T>, 8> kids = red_refinement(t);
+        BoundingTet<T> kept[8];
+        int n = 0;
+        bool flat = false;
+        for (const BoundingTet<T>& k : kids)
+            if (quadric_may_cross(q, k)) {
+                kept[n++] = k;
+                // (A flat child, from a sliver parent, would be refused as a clip tetrahedron.)
+                T longest = T(0);
+                for (int i = 0; i < 4; ++i)
+                    for (int j = i + 1; j < 4; ++j) longest = std::max(longest, length(k.p[j] - k.p[i]));
+                const T vol6 = std::fabs(dot(k.p[1] - k.p[0], cross(k.p[2] - k.p[0], k.p[3] - k.p[0])));
+                flat = (flat || !(vol6 > T(0.001) * longest * longest * longest)) || !(longest >= min_edge);
+            }
+        if (n > 0 && n <= max_kept && !flat) {
+            for (int i = 0; i < n; ++i) refine_crossing(q, kept[i], levels - 1, max_kept, min_edge, out);
+            return;
+        }
+    }
+    out.push_back(t);
 }
 
 }  // namespace quadcast::bb

@@ -29,7 +29,8 @@ using scene::Vec3d;
 /// One tetrahedron of the triangulated mixed complex that the surface crosses, with its quadric in
 /// world coordinates (double) and the ball nearest to its centroid (power distance of the grown balls).
 struct Piece {
-    std::array<Vec3d, 4> tet;
+    std::array<Vec3d, 4> tet;       ///< the clip tetrahedron: the cell, or a part of it (`refine_levels`)
+    std::array<Vec3d, 4> cell_tet;  ///< the cell of the triangulated mixed complex it lies in
     Quadric<double> q;
     std::size_t ball = 0;
     std::size_t cell = 0;  ///< index for SkinSurface::cell_value / cell_gradient
@@ -39,7 +40,8 @@ struct Piece {
 struct Stats {
     std::size_t balls = 0;
     std::size_t cells = 0;         ///< finite tetrahedra of the triangulated mixed complex
-    std::size_t pieces = 0;        ///< cells the surface crosses
+    std::size_t cells_crossed = 0; ///< cells the surface crosses
+    std::size_t pieces = 0;        ///< their clip tetrahedra (`refine_levels`: the crossed parts of refined cells)
     double seconds_cgal = 0;       ///< CGAL: regular triangulation and mixed complex
     double seconds_pieces = 0;     ///< reading the quadrics back, checking, selecting
     double worst_check = 0;        ///< max |quadric - CGAL value()| at the cells' nodes, relative to the cell's scale
@@ -51,7 +53,9 @@ struct Stats {
 /// non-finite coordinate) and std::runtime_error when a recovered quadric fails its check.
 class SkinSurface {
 public:
-    SkinSurface(const std::vector<scene::SkinBall>& balls, double shrink);
+    /// `refine_levels`: how many times a crossed cell may be refined into smaller clip
+    /// tetrahedra (`bb::refine_crossing`, at most 4 of 8 children kept per step); 0 keeps the cells.
+    SkinSurface(const std::vector<scene::SkinBall>& balls, double shrink, int refine_levels = 2);
     ~SkinSurface();
     SkinSurface(const SkinSurface&) = delete;
     SkinSurface& operator=(const SkinSurface&) = delete;
