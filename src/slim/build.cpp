@@ -75,6 +75,10 @@ private:
     std::vector<std::uint32_t> start_, items_;
 };
 
+/// FitOptions::regularization of the plane fit (`attempt`): the 6 quadratic coefficients cost 1e6
+/// times the mean residual, so they stay below ~1e-6 of the linear ones.
+constexpr double planar_regularization = 1e6;
+
 /// A record being built: the world ball and the local fit (kept for the statistics).
 struct Record {
     Ball ball;
@@ -173,14 +177,20 @@ bool supported(const Context& cx, const Quadric<double>& local, const Vec3d& c, 
                     const Vec3d x = c + u * r;
                     if (plane && dot(xyz(*plane), x) + (*plane)[3] < 0) continue;
                     cx.grid.query(x, support, near);
-                    if (near.empty()) return false;
+                    // ... and one of them with a normal on the sample's side: a sheet folded back
+                    // or a second sheet near other points has the opposite orientation.
+                    const Vec3d g = gradient(local, u);
+                    bool agrees = false;
+                    for (const std::uint32_t i : near)
+                        if (dot(cx.pts.normals[i], g) > cx.opt.support_normal_cos * length(g)) { agrees = true; break; }
+                    if (!agrees) return false;
                 }
             }
     return true;
 }
 
 /// Tries the ball (c, r) of `points`: a single quadric, else a sharp pair. `ok` when accepted.
-bool attempt(const Context& cx, const Vec3d& c, double r, const std::vector<std::uint32_t>& idx, SeedResult& out) {
+bool attempt_quadrics(const Context& cx, const Vec3d& c, double r, const std::vector<std::uint32_t>& idx, SeedResult& out) {
     const auto& P = cx.pts.positions;
     const auto& N = cx.pts.normals;
     out.records.clear();
@@ -249,6 +259,24 @@ bool attempt(const Context& cx, const Vec3d& c, double r, const std::vector<std:
     return true;
 }
 
+/// Tries the ball (c, r) of `points`: a single quadric, else a sharp pair, else (support check on)
+/// a plane: the fit with its quadratic coefficients held near 0 (planar_regularization). In a ball of
+/// few points the quadratic coefficients are barely determined and the quadric often turns back
+/// into the ball as a second sheet crossing the points with the opposite orientation, which the
+/// support check rejects; the plane has no second sheet and is accepted where it is within E.
+bool attempt(const Context& cx, const Vec3d& c, double r, const std::vector<std::uint32_t>& idx, SeedResult& out) {
+    if (attempt_quadrics(cx, c, r, idx, out)) return true;
+    if (!cx.opt.support_check) return false;
+    FitOptions planar = cx.opt.fit;
+    planar.regularization = planar_regularization;
+    ++out.fits;
+    const LocalFit plane = fit_ball(cx.pts.positions, cx.pts.normals, idx, c, r, planar);
+    if (!(plane.solved && plane.oriented && plane.max_distance <= cx.threshold && supported(cx, plane.local, c, r, nullptr, idx.size()))) return false;
+    out.records.assign(1, make_record(plane, c, r));
+    out.side.assign(idx.size(), 0);
+    return true;
+}
+
 /// The ball of one seed (see build.hpp, step 3).
 SeedResult grow_ball(const Context& cx, std::uint32_t seed) {
     const Vec3d c = cx.pts.positions[seed];
@@ -298,9 +326,23 @@ SeedResult grow_ball(const Context& cx, std::uint32_t seed) {
             if (next == r_min) first = cur;
         }
         if (lo == 0) {
-            // Even the smallest ball is rejected: keep its single quadric (forced).
+            // Even the smallest ball is rejected: keep its single quadric (forced) where the
+            // support check accepts it, else the seed's tangent plane (f = n . u in the ball):
+            // a quadric fitted to the fewest points often has a second sheet or a fold in its
+            // ball, which the renderers draw as a flake.
             best = first;
             if (best.records.size() > 1) best.records.resize(1);
+            if (cx.opt.support_check &&
+                (best.records.empty() || !supported(cx, best.records[0].local, c, best.radius, nullptr, best.points.size()))) {
+                const Vec3d n = cx.pts.normals[seed];
+                Coefficients10<double> k{};
+                k.k100 = n[0];
+                k.k010 = n[1];
+                k.k001 = n[2];
+                LocalFit plane;
+                plane.local = quadric_from_coefficients(k);
+                best.records.assign(1, make_record(plane, c, best.radius));
+            }
             best.side.assign(best.points.size(), 0);
             best.forced = true;
             best.fits = fits;
@@ -392,6 +434,7 @@ BuildResult build(const OrientedPoints& points, const BuildOptions& options) {
             }
             for (Record& rec : r.records) {
                 res.model.balls.push_back(rec.ball);
+                res.forced.push_back(r.forced ? 1 : 0);
                 locals.push_back(rec.local);
             }
             if (r.records.size() == 2) ++st.sharp_pairs;
