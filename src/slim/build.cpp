@@ -247,7 +247,7 @@ bool attempt_quadrics(const Context& cx, const Vec3d& c, double r, const std::ve
     const Vec4d plane0 = vec4(m * s, -s * (dot(m, c) + t));
     const Vec4d plane1 = -plane0;
     if (cx.opt.support_check &&
-        (!supported(cx, f0.local, c, r, &plane0, side[0].size()) || !supported(cx, f1.local, c, r, &plane1, side[1].size())))
+        (!supported(cx, f0.local, c, r, &plane0, idx.size()) || !supported(cx, f1.local, c, r, &plane1, idx.size())))
         return false;
     out.records.clear();
     out.records.push_back(make_record(f0, c, r));
