@@ -134,7 +134,12 @@ TEST_CASE("the GL SLIM renderer blends what the CPU reference blends, on the exa
         CHECK(d.color_diff <= d.covered / 200);
         CHECK(d.max_depth < 1e-5);
         CHECK(max_angle < 0.01);
-        CHECK(max_dist <= E);
+        // Without culling a ball near the silhouette also hits the back sheet, which the visibility
+        // window blends where it lies within the window: up to 0.5 r at a ball's rim since the window
+        // grows towards the sphere (quadcast/slim_blend.hpp), and the blended position then lies
+        // between the two sheets. Measured 1.44 E on the sphere (0.20 E with the constant 0.25 r
+        // window, which left seams on the bunny); culling, the default, draws front roots only.
+        CHECK(max_dist <= (c.culling ? 1.0 : 2.0) * E);
         // 16-bit targets: half floats hold the sums to 2^-11 relative.
         CHECK(coverage16 <= d.covered / 200);
         CHECK(max_angle16 < 0.5);

@@ -32,7 +32,11 @@ public:
 
     /// The ray parameter of the first hit of origin + s dir with s > 0, or +inf. An edge shared by
     /// two triangles counts as hit (barycentric tolerance 1e-12), so a closed mesh has no pinholes.
-    double first_hit(const V3& o, const V3& d) const {
+    double first_hit(const V3& o, const V3& d) const { return first_hit(o, d, nullptr, nullptr, nullptr); }
+
+    /// The same, with the triangle hit and the barycentric coordinates (u, v) of the hit on it
+    /// (the point is (1 - u - v) p0 + u p1 + v p2).
+    double first_hit(const V3& o, const V3& d, std::uint32_t* tri, double* bu, double* bv) const {
         double best = std::numeric_limits<double>::infinity();
         if (nodes_.empty()) return best;
         V3 inv;
@@ -44,7 +48,14 @@ public:
             const Node& n = nodes_[stack[--top]];
             if (!slab(n, o, inv, best)) continue;
             if (n.count > 0) {
-                for (std::uint32_t k = n.first; k < n.first + n.count; ++k) best = std::min(best, triangle(order_[k], o, d));
+                for (std::uint32_t k = n.first; k < n.first + n.count; ++k) {
+                    double u = 0, v = 0;
+                    const double s = triangle(order_[k], o, d, u, v);
+                    if (s < best) {
+                        best = s;
+                        if (tri) *tri = order_[k], *bu = u, *bv = v;
+                    }
+                }
             } else {
                 stack[top++] = n.first;
                 stack[top++] = n.first + 1;
@@ -111,18 +122,18 @@ private:
         return true;
     }
 
-    double triangle(std::uint32_t i, const V3& o, const V3& d) const {
+    double triangle(std::uint32_t i, const V3& o, const V3& d, double& u, double& v) const {
         const V3 a = p_[t_[i][0]], e1 = p_[t_[i][1]] - a, e2 = p_[t_[i][2]] - a;
         const V3 pv = cross(d, e2);
         const double det = dot(e1, pv);
         if (det == 0) return std::numeric_limits<double>::infinity();
         const double inv = 1.0 / det;
         const V3 tv = o - a;
-        const double u = dot(tv, pv) * inv;
+        u = dot(tv, pv) * inv;
         const double tol = 1e-12;
         if (u < -tol || u > 1 + tol) return std::numeric_limits<double>::infinity();
         const V3 qv = cross(tv, e1);
-        const double v = dot(d, qv) * inv;
+        v = dot(d, qv) * inv;
         if (v < -tol || u + v > 1 + tol) return std::numeric_limits<double>::infinity();
         const double s = dot(e2, qv) * inv;
         return s > 0 ? s : std::numeric_limits<double>::infinity();
