@@ -380,6 +380,8 @@ BuildResult build(const OrientedPoints& points, const BuildOptions& options) {
     if (!(options.error > 0) || !std::isfinite(options.error)) bad_option("error must be positive and finite (got " + num(options.error) + ")");
     if (!(options.cover_fraction > 0 && options.cover_fraction <= 1)) bad_option("cover_fraction must be in (0, 1]");
     if (!(options.initial_radius > 0) || !(options.max_radius >= options.initial_radius)) bad_option("need 0 < initial_radius <= max_radius");
+    if (!(options.support_normal_cos >= -1 && options.support_normal_cos < 1))
+        bad_option("support_normal_cos must be in [-1, 1) (got " + num(options.support_normal_cos) + ")");
     if (options.min_points < min_fit_points) bad_option("min_points must be at least " + std::to_string(min_fit_points));
     if (points.size() < options.min_points)
         bad_option(points.file + ": " + std::to_string(points.size()) + " points; a ball needs at least " + std::to_string(options.min_points));
