@@ -20,9 +20,14 @@
 namespace quadcast {
 
 /// How far the visibility pass pushes a ball's depth away from the eye, relative to the ball's
-/// radius, along the view axis (view-space z). A hit of another ball is blended when its window
-/// depth is at most the smallest pushed depth of the pixel: one constant for the GL visibility
-/// pass and the CPU reference.
+/// radius, along the view axis (view-space z), for a hit at the ball's centre (weight 1). A hit of
+/// another ball is blended when its window depth is at most the smallest pushed depth of the
+/// pixel: one constant for the GL visibility pass and the CPU reference. Towards the sphere the
+/// push grows linearly in 1 - w to the whole radius (`slim_fragment`): a small ball's rim hit a
+/// little in front of the surface (its quadric's deviation at the rim, within the support
+/// tolerance) would otherwise shut out the surface's own hits behind it, and the pixel would show
+/// that one low-weight hit alone (a seam: 45-70 degree jumps of the blended normal measured on the
+/// bunny, tests/slim/against_mesh.cpp).
 inline constexpr float slim_depth_window = 0.25f;
 
 /// exp(-u) for u in [0, 1] as its Taylor polynomial of degree 11 in Horner form:
@@ -68,25 +73,28 @@ struct SlimFragment {
 /// The fragment of one SLIM ball (a quadric clipped to its bounding sphere and to the plane in
 /// p.planes[0]; variant `bounded` plus CastOptions::clip_plane) for a ray whose origin lies in the
 /// camera plane: `cast_ray` (front root only with `Cull`), `window_depth`, and the visibility
-/// depth, window depth at view z = lambda vz - slim_depth_window r, clamped to 1.
+/// depth, window depth at view z = lambda vz - s r, s = slim_depth_window + (1 -
+/// slim_depth_window) (1 - w) (0.25 at the centre, 1 on the sphere), clamped to 1.
 /// Numerics: as `cast_ray` and `window_depth`; t = sqrt(x.x) / r; the normal is `normalize` of
 /// g + lambda a (guarded: (0, 0, 1) where that is zero, which only a singular point gives).
 template <bool Cull, class T>
 SlimFragment<T> slim_fragment(const ClippedQuadric<T>& p, const LocalRay<T>& r, const Vec3<T>& vz_row, const Vec4<T>& pz) {
     constexpr CastOptions opt{Cull, false, true, false, false, true};
     const CastHit<T> h = cast_ray<opt>(p, r);
+    const T t = sqrt(dot(h.x, h.x)) / p.radius;
+    const T w = slim_weight(t);
     // Depth of the hit, and the pushed depth of the visibility pass
     const T vz = dot(vz_row, r.v);
     const T depth = window_depth(h.lambda, vz, pz);
-    const T z = h.lambda * vz - T(slim_depth_window) * p.radius;
+    const T push = T(slim_depth_window) * (T(2) - w);
+    const T z = h.lambda * vz - push * p.radius;
     const T pushed = T(0.5) * ((pz[0] * z + pz[1]) / (pz[2] * z + pz[3])) + T(0.5);
-    // Weight and unit normal
-    const T t = sqrt(dot(h.x, h.x)) / p.radius;
+    // Unit normal
     const T n2 = dot(h.normal, h.normal);
     const mask_t<T> ok_n = n2 > T(0);
     const T len = sqrt(select(ok_n, n2, T(1)));
     const Vec3<T> n = select(ok_n, h.normal / len, vec3(T(0), T(0), T(1)));
-    return {(h.hit && depth >= T(0)) && depth <= T(1), depth, min(pushed, T(1)), h.lambda, n, slim_weight(t)};
+    return {(h.hit && depth >= T(0)) && depth <= T(1), depth, min(pushed, T(1)), h.lambda, n, w};
 }
 
 /// A SLIM pixel after the accumulation: sums over the blended fragments, in their order.

@@ -75,6 +75,10 @@ private:
     std::vector<std::uint32_t> start_, items_;
 };
 
+/// FitOptions::regularization of the plane fit (`attempt`): the 6 quadratic coefficients cost 1e6
+/// times the mean residual, so they stay below ~1e-6 of the linear ones.
+constexpr double planar_regularization = 1e6;
+
 /// A record being built: the world ball and the local fit (kept for the statistics).
 struct Record {
     Ball ball;
@@ -173,14 +177,20 @@ bool supported(const Context& cx, const Quadric<double>& local, const Vec3d& c, 
                     const Vec3d x = c + u * r;
                     if (plane && dot(xyz(*plane), x) + (*plane)[3] < 0) continue;
                     cx.grid.query(x, support, near);
-                    if (near.empty()) return false;
+                    // ... and one of them with a normal on the sample's side: a sheet folded back
+                    // or a second sheet near other points has the opposite orientation.
+                    const Vec3d g = gradient(local, u);
+                    bool agrees = false;
+                    for (const std::uint32_t i : near)
+                        if (dot(cx.pts.normals[i], g) > cx.opt.support_normal_cos * length(g)) { agrees = true; break; }
+                    if (!agrees) return false;
                 }
             }
     return true;
 }
 
 /// Tries the ball (c, r) of `points`: a single quadric, else a sharp pair. `ok` when accepted.
-bool attempt(const Context& cx, const Vec3d& c, double r, const std::vector<std::uint32_t>& idx, SeedResult& out) {
+bool attempt_quadrics(const Context& cx, const Vec3d& c, double r, const std::vector<std::uint32_t>& idx, SeedResult& out) {
     const auto& P = cx.pts.positions;
     const auto& N = cx.pts.normals;
     out.records.clear();
@@ -237,7 +247,7 @@ bool attempt(const Context& cx, const Vec3d& c, double r, const std::vector<std:
     const Vec4d plane0 = vec4(m * s, -s * (dot(m, c) + t));
     const Vec4d plane1 = -plane0;
     if (cx.opt.support_check &&
-        (!supported(cx, f0.local, c, r, &plane0, side[0].size()) || !supported(cx, f1.local, c, r, &plane1, side[1].size())))
+        (!supported(cx, f0.local, c, r, &plane0, idx.size()) || !supported(cx, f1.local, c, r, &plane1, idx.size())))
         return false;
     out.records.clear();
     out.records.push_back(make_record(f0, c, r));
@@ -246,6 +256,24 @@ bool attempt(const Context& cx, const Vec3d& c, double r, const std::vector<std:
     out.records[0].ball.plane = plane0;
     out.records[1].ball.plane = -plane0;
     out.side = label;
+    return true;
+}
+
+/// Tries the ball (c, r) of `points`: a single quadric, else a sharp pair, else (support check on)
+/// a plane: the fit with its quadratic coefficients held near 0 (planar_regularization). In a ball of
+/// few points the quadratic coefficients are barely determined and the quadric often turns back
+/// into the ball as a second sheet crossing the points with the opposite orientation, which the
+/// support check rejects; the plane has no second sheet and is accepted where it is within E.
+bool attempt(const Context& cx, const Vec3d& c, double r, const std::vector<std::uint32_t>& idx, SeedResult& out) {
+    if (attempt_quadrics(cx, c, r, idx, out)) return true;
+    if (!cx.opt.support_check) return false;
+    FitOptions planar = cx.opt.fit;
+    planar.regularization = planar_regularization;
+    ++out.fits;
+    const LocalFit plane = fit_ball(cx.pts.positions, cx.pts.normals, idx, c, r, planar);
+    if (!(plane.solved && plane.oriented && plane.max_distance <= cx.threshold && supported(cx, plane.local, c, r, nullptr, idx.size()))) return false;
+    out.records.assign(1, make_record(plane, c, r));
+    out.side.assign(idx.size(), 0);
     return true;
 }
 
@@ -298,9 +326,23 @@ SeedResult grow_ball(const Context& cx, std::uint32_t seed) {
             if (next == r_min) first = cur;
         }
         if (lo == 0) {
-            // Even the smallest ball is rejected: keep its single quadric (forced).
+            // Even the smallest ball is rejected: keep its single quadric (forced) where the
+            // support check accepts it, else the seed's tangent plane (f = n . u in the ball):
+            // a quadric fitted to the fewest points often has a second sheet or a fold in its
+            // ball, which the renderers draw as a flake.
             best = first;
             if (best.records.size() > 1) best.records.resize(1);
+            if (cx.opt.support_check &&
+                (best.records.empty() || !supported(cx, best.records[0].local, c, best.radius, nullptr, best.points.size()))) {
+                const Vec3d n = cx.pts.normals[seed];
+                Coefficients10<double> k{};
+                k.k100 = n[0];
+                k.k010 = n[1];
+                k.k001 = n[2];
+                LocalFit plane;
+                plane.local = quadric_from_coefficients(k);
+                best.records.assign(1, make_record(plane, c, best.radius));
+            }
             best.side.assign(best.points.size(), 0);
             best.forced = true;
             best.fits = fits;
@@ -338,6 +380,8 @@ BuildResult build(const OrientedPoints& points, const BuildOptions& options) {
     if (!(options.error > 0) || !std::isfinite(options.error)) bad_option("error must be positive and finite (got " + num(options.error) + ")");
     if (!(options.cover_fraction > 0 && options.cover_fraction <= 1)) bad_option("cover_fraction must be in (0, 1]");
     if (!(options.initial_radius > 0) || !(options.max_radius >= options.initial_radius)) bad_option("need 0 < initial_radius <= max_radius");
+    if (!(options.support_normal_cos >= -1 && options.support_normal_cos < 1))
+        bad_option("support_normal_cos must be in [-1, 1) (got " + num(options.support_normal_cos) + ")");
     if (options.min_points < min_fit_points) bad_option("min_points must be at least " + std::to_string(min_fit_points));
     if (points.size() < options.min_points)
         bad_option(points.file + ": " + std::to_string(points.size()) + " points; a ball needs at least " + std::to_string(options.min_points));
@@ -392,6 +436,7 @@ BuildResult build(const OrientedPoints& points, const BuildOptions& options) {
             }
             for (Record& rec : r.records) {
                 res.model.balls.push_back(rec.ball);
+                res.forced.push_back(r.forced ? 1 : 0);
                 locals.push_back(rec.local);
             }
             if (r.records.size() == 2) ++st.sharp_pairs;

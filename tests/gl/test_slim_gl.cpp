@@ -16,6 +16,7 @@
 #include "quadcast/slim/build.hpp"
 #include "quadcast/slim/scene_loader.hpp"
 #include "render/render_testing.hpp"
+#include "slim/against_mesh.hpp"
 #include "slim/slim_testing.hpp"
 
 using namespace quadcast;
@@ -133,7 +134,12 @@ TEST_CASE("the GL SLIM renderer blends what the CPU reference blends, on the exa
         CHECK(d.color_diff <= d.covered / 200);
         CHECK(d.max_depth < 1e-5);
         CHECK(max_angle < 0.01);
-        CHECK(max_dist <= E);
+        // Without culling a ball near the silhouette also hits the back sheet, which the visibility
+        // window blends where it lies within the window: up to 0.5 r at a ball's rim since the window
+        // grows towards the sphere (quadcast/slim_blend.hpp), and the blended position then lies
+        // between the two sheets. Measured 1.44 E on the sphere (0.20 E with the constant 0.25 r
+        // window, which left seams on the bunny); culling, the default, draws front roots only.
+        CHECK(max_dist <= (c.culling ? 1.0 : 2.0) * E);
         // 16-bit targets: half floats hold the sums to 2^-11 relative.
         CHECK(coverage16 <= d.covered / 200);
         CHECK(max_angle16 < 0.5);
@@ -204,4 +210,29 @@ TEST_CASE("SLIM surfaces and quadric primitives share the depth buffer: GL draws
     // SLIM hits before the primitive (the composite compares whole blends): a few pixels on the rim.
     CHECK(d.color_diff <= d.covered / 100);
     CHECK(d.max_depth < 1e-3);
+}
+
+TEST_CASE("the GL SLIM renderer covers a closed mesh's pixels, up to a band of 2 E and a pixel at the silhouette") {
+    // As tests/slim/against_mesh.cpp for the CPU reference: the GL image's coverage (depth < 1)
+    // against the mesh's own, by ray casting its triangles (double).
+    using namespace slim::testing;
+    gl::OsmesaContext ctx;
+    const int w = 256, h = 192;
+    for (const std::string file : {"torus_1024.off", "bunny_3k.off"}) {
+        CAPTURE(file);
+        const MeshSlim b = build_mesh_slim(std::string(QUADCAST_SLIM_TEST_DATA) + "/" + file, 3e-3);
+        const render::Frame fr = mesh_slim_frame(b, vec3(0.35, 0.3, 1.0), w, h);
+        const GlSlim g = draw_gl(ctx, fr, 32);
+        std::vector<char> gl_cov(g.image.depth.size()), mesh_cov;
+        for (std::size_t i = 0; i < gl_cov.size(); ++i) gl_cov[i] = g.image.depth[i] < 1.0f;
+        for (const double l : mesh_lambdas(b, fr)) mesh_cov.push_back(std::isfinite(l));
+        const double footprint = 0.8 * b.diagonal() / h;
+        const int band = coverage_band(b.slim.stats.threshold, footprint);
+        const Coverage c = compare_coverage(gl_cov, mesh_cov, w, h, band);
+        std::printf("[slim gl] %s %dx%d: footprint %.3g E, band %d px; mesh %ld px, GL %ld px, only GL %ld, only mesh %ld, farthest ring %d, beyond the band %ld\n",
+                    file.c_str(), w, h, footprint / b.slim.stats.threshold, band, c.reference, c.tested, c.only_tested, c.only_reference, c.worst_ring,
+                    c.beyond_band);
+        CHECK(c.reference > w * h / 8);
+        CHECK(c.beyond_band == 0);
+    }
 }

@@ -102,12 +102,17 @@ TEST_CASE("the model does not depend on the number of threads") {
     CHECK(one.covered_by == seven.covered_by);
 }
 
-TEST_CASE("a non-positive or non-finite error threshold is rejected") {
+TEST_CASE("a non-positive or non-finite error threshold, or a support normal cosine outside [-1, 1), is rejected") {
     const OrientedPoints pts = ellipsoid_points(vec3(0.0, 0.0, 0.0), vec3(1.0, 1.0, 1.0), 100, 1);
     for (double e : {0.0, -1e-3, std::nan(""), double(INFINITY)}) {
         BuildOptions o;
         o.error = e;
         CHECK_THROWS_WITH_AS(build(pts, o), doctest::Contains("error must be positive and finite"), std::invalid_argument);
+    }
+    for (double c : {-1.5, 1.0, std::nan("")}) {
+        BuildOptions o;
+        o.support_normal_cos = c;
+        CHECK_THROWS_WITH_AS(build(pts, o), doctest::Contains("support_normal_cos must be in [-1, 1)"), std::invalid_argument);
     }
 }
 

@@ -31,6 +31,7 @@ namespace quadcast::render {
 struct SlimPixel {
     bool covered = false;
     int blended = 0;            ///< fragments summed
+    float weight = 0.0f;        ///< their summed weight
     Vec3<float> normal;         ///< blended unit normal
     float lambda = 0.0f;        ///< blended ray parameter: the position is origin + lambda dir
     float depth = 1.0f;
@@ -124,7 +125,7 @@ inline Image render_slim_cpu(const std::vector<Primitive>& balls, const Camera& 
                 const SlimResolved<float> res = slim_resolve(sums.normal_weight, sums.lambda_material, sums.color, dot(f.vz_row, ray.dir), f.pz);
                 const std::size_t o = std::size_t(f.height - 1 - y) * f.width + x;
                 std::uint8_t* px = &img.rgba[o * 4];
-                if (pixels) (*pixels)[o] = SlimPixel{res.covered, blended, res.normal, res.lambda, res.covered ? res.depth : 1.0f, vis, ray.origin, ray.dir};
+                if (pixels) (*pixels)[o] = SlimPixel{res.covered, blended, sums.normal_weight[3], res.normal, res.lambda, res.covered ? res.depth : 1.0f, vis, ray.origin, ray.dir};
                 if (!res.covered) {
                     std::copy(bg, bg + 4, px);
                     continue;

@@ -13,7 +13,12 @@
 //     rejected radius. Accepted: the fit (quadcast/slim/fit.hpp) solved, oriented along every
 //     normal, every point of the ball within E (gradient-line distance), and (support_check) its
 //     zero set in the ball near the points: sampled on 147 lines, every sample within 2 point
-//     spacings of an input point (no plane continued past an edge, no second sheet in the ball).
+//     spacings of an input point whose normal is less than 120 degrees from the quadric's
+//     gradient there (no plane continued past an edge, no second sheet in the ball, no sheet
+//     folded back through the points). With the support check, a ball whose quadric and sharp
+//     pair are rejected is tried once more with a plane (the fit with its quadratic coefficients
+//     held at ~0): in balls of few points the quadratic terms are barely determined and often
+//     turn a sheet back into the ball.
 //  4. Sharp features: when the single quadric is rejected, the normals are split by 2-means
 //     (seeded by the normal farthest from the mean and the one farthest from that, 10 rounds).
 //     If the cluster means are more than sharp_angle apart and each cluster holds at least
@@ -26,7 +31,8 @@
 //     and the plane puts at most sharp_max_misclassified of the points on the wrong side (a
 //     corner's three faces split into two clusters are not separable by one plane). Note that an
 //     edge of two planar faces is often ONE quadric already: the plane pair x y = 0.
-//  5. When even the min_points ball is rejected it is kept anyway ("forced"; counted).
+//  5. When even the min_points ball is rejected it is kept anyway ("forced"; counted): its
+//     quadric where the support check accepts it, else the seed's tangent plane.
 //  6. The points within cover_fraction * r of the centre are marked covered by that record
 //     (by their cluster's record in a sharp pair); repeat until every point is covered.
 // Threads (TBB): batches of the next uncovered seeds are fitted in parallel and committed in
@@ -60,6 +66,9 @@ struct BuildOptions {
     /// spacings of the input points (sampled on 147 lines; src/slim/build.cpp `supported`): a
     /// quadric continued past an edge or a second sheet would be drawn by the renderers.
     bool support_check = true;
+    /// The support check's normal test: a zero-set sample needs an input point within the support
+    /// distance whose normal n has n . g > support_normal_cos |g| (g the quadric's gradient there).
+    double support_normal_cos = -0.5;
     double sharp_angle_degrees = 60;
     double sharp_min_fraction = 0.1;
     double sharp_max_misclassified = 0.02;  ///< fraction of the ball's points the plane may put on the wrong side
@@ -88,6 +97,7 @@ struct BuildResult {
     Model model;
     BuildStats stats;
     std::vector<std::uint32_t> covered_by;  ///< per input point, the index of its record
+    std::vector<unsigned char> forced;      ///< per record: 1 when it is a forced ball's
 };
 
 /// Builds the SLIM model of oriented points. Throws std::invalid_argument naming the option
