@@ -47,6 +47,16 @@ LD value(const Quadric<double>& q, const Vec3<double>& x) {
     return s;
 }
 
+/// A random point of the tetrahedron (barycentric weights from exponential variates).
+Vec3<double> random_in(const BoundingTet<double>& t, std::mt19937& rng) {
+    std::exponential_distribution<double> e(1.0);
+    double w[4], sum = 0;
+    for (double& x : w) sum += x = e(rng);
+    Vec3<double> x{};
+    for (int k = 0; k < 4; ++k) x = x + t.p[k] * (w[k] / sum);
+    return x;
+}
+
 Vec3<double> gradient(const Quadric<double>& q, const Vec3<double>& x) {
     Vec3<double> g{};
     for (int i = 0; i < 3; ++i) {
@@ -90,11 +100,7 @@ TEST_CASE("refined clip tetrahedra hold the whole zero set of their parent and t
         // The zero set: random points of the parent pulled onto it by Newton steps (long double
         // values), kept when they stay in the parent.
         for (int n = 0; n < 400; ++n) {
-            std::exponential_distribution<double> e(1.0);
-            double w[4], sum = 0;
-            for (double& x : w) sum += x = e(rng);
-            Vec3<double> x{};
-            for (int k = 0; k < 4; ++k) x = x + t.p[k] * (w[k] / sum);
+            Vec3<double> x = random_in(t, rng);
             for (int s = 0; s < 40; ++s) {
                 const Vec3<double> g = gradient(q, x);
                 const double gg = dot(g, g);
@@ -136,11 +142,7 @@ TEST_CASE("red refinement tiles its parent and the BB sign test bounds sampled v
         }
         CHECK(std::fabs(double(sum / v6 - 1)) < 1e-12);
         for (int n = 0; n < 50; ++n) {
-            std::exponential_distribution<double> e(1.0);
-            double w[4], s = 0;
-            for (double& x : w) s += x = e(rng);
-            Vec3<double> x{};
-            for (int k = 0; k < 4; ++k) x = x + t.p[k] * (w[k] / s);
+            const Vec3<double> x = random_in(t, rng);
             int in = 0;
             for (const auto& k : kids) in += inside(k, x, 1e-12L);
             CHECK(in >= 1);
@@ -152,11 +154,7 @@ TEST_CASE("red refinement tiles its parent and the BB sign test bounds sampled v
         if (bb::quadric_may_cross(q, t)) continue;
         const LD sign = value(q, t.p[0]) > 0 ? 1 : -1;
         for (int n = 0; n < 50; ++n) {
-            std::exponential_distribution<double> e(1.0);
-            double w[4], s = 0;
-            for (double& x : w) s += x = e(rng);
-            Vec3<double> x{};
-            for (int k = 0; k < 4; ++k) x = x + t.p[k] * (w[k] / s);
+            const Vec3<double> x = random_in(t, rng);
             CHECK(sign * value(q, x) > 0);
         }
     }
