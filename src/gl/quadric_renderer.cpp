@@ -145,6 +145,7 @@ public:
     void set_slab_quads(bool on) { slab_quads_ = on; }
     void set_early_discard(bool on) { early_discard_ = on; }
     void set_compute_bounds(bool on) { compute_bounds_ = on; }
+    void set_dispatch_row_limit(std::uint32_t groups) { row_limit_ = std::clamp<std::uint32_t>(groups, 1u, 65535u); }
     /// Samples that passed (GL_SAMPLES_PASSED) in the primitive pass of the last `draw`.
     std::uint64_t samples_passed() const { return samples_passed_; }
     /// Count fragment-shader invocations of the primitive pass (GL_ARB_pipeline_statistics_query,
@@ -398,6 +399,15 @@ private:
     /// list and the variant's indirect draw command {6 n, 1, 0, 4 first, 0} (the vertex stage
     /// reads slot first + i); with `set_compute_bounds`, then each slot's corners and nearest
     /// distance (the variant's vertex stage's uniforms from `opt`).
+    /// Dispatches `n` workgroups of a pass over records in rows of at most `row_limit_` (65535,
+    /// GL's guaranteed limit per dimension; the shaders number them by `qc_linear_group`, and a
+    /// cull pass workgroup past the records returns).
+    void dispatch_rows(const Api& gl, std::uint32_t n) const {
+        if (n == 0) return;
+        const std::uint32_t x = std::min<std::uint32_t>(n, row_limit_);
+        gl.DispatchCompute(x, (n + x - 1) / x, 1);
+    }
+
     void run_cull_pass(const render::Camera& cam, const render::RenderOptions& opt, int width, int height) {
         const Api& gl = *api_;
         const auto w = static_cast<std::uint32_t>(width), h = static_cast<std::uint32_t>(height);
@@ -443,7 +453,7 @@ private:
             if (r.second == 0) continue;
             gl.Uniform1ui(occ.uniform_location("qc_first"), r.first);
             gl.Uniform1ui(occ.uniform_location("qc_count"), r.second);
-            gl.DispatchCompute(groups(r.second, 64), 1, 1);
+            dispatch_rows(gl, groups(r.second, 64));
         }
         gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
         // 2. The max-depth pyramid.
@@ -494,7 +504,7 @@ private:
             gl.Uniform1i(cull.uniform_location("qc_occlusion"), static_cast<render::Variant>(v) == render::Variant::planes ? 0 : 1);
             gl.BindBufferRange(GL_SHADER_STORAGE_BUFFER, 7, groups_, static_cast<GLintptr>(group_base[v] * sizeof(std::uint32_t)),
                                static_cast<GLsizeiptr>(groups(ranges_[v].second, 64) * sizeof(std::uint32_t)));
-            gl.DispatchCompute(groups(ranges_[v].second, 64), 1, 1);
+            dispatch_rows(gl, groups(ranges_[v].second, 64));
         }
         gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
         // 4. Per variant the workgroups' first slots and the command, 5. the kept records in
@@ -526,7 +536,7 @@ private:
             gl.UseProgram(compact.id());
             gl.Uniform1ui(compact.uniform_location("qc_first"), ranges_[v].first);
             gl.Uniform1ui(compact.uniform_location("qc_count"), ranges_[v].second);
-            gl.DispatchCompute(groups(ranges_[v].second, 64), 1, 1);
+            dispatch_rows(gl, groups(ranges_[v].second, 64));
         }
         // 6. With compute bounds, per variant one invocation per slot of its visible list (those
         // beyond its count return at once).
@@ -541,7 +551,7 @@ private:
                 detail::set_camera_uniforms(gl, bounds, cam, width, height);
                 set_bound_uniforms(bounds, variant, cam, opt);
                 gl.Uniform1ui(bounds.uniform_location("qc_command_at"), static_cast<GLuint>(5 * v));
-                gl.DispatchCompute(groups(ranges_[v].second, 64), 1, 1);
+                dispatch_rows(gl, groups(ranges_[v].second, 64));
             }
         }
         gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
@@ -743,6 +753,7 @@ private:
     FragmentStage stage_ = FragmentStage::incremental;
     bool depth_test_ = true;
     bool slab_quads_ = true;
+    std::uint32_t row_limit_ = 65535u;
     bool early_discard_ = true;
     bool compute_bounds_ = false;  ///< off by default: it did not pay on llvmpipe (bench spheres, 'comp')
     GLuint query_ = 0, fs_query_ = 0;
@@ -758,6 +769,7 @@ void QuadricRenderer::set_depth_test(bool on) { impl_->set_depth_test(on); }
 void QuadricRenderer::set_slab_quads(bool on) { impl_->set_slab_quads(on); }
 void QuadricRenderer::set_early_discard(bool on) { impl_->set_early_discard(on); }
 void QuadricRenderer::set_compute_bounds(bool on) { impl_->set_compute_bounds(on); }
+void QuadricRenderer::set_dispatch_row_limit(std::uint32_t groups) { impl_->set_dispatch_row_limit(groups); }
 std::uint64_t QuadricRenderer::samples_passed() const { return impl_->samples_passed(); }
 void QuadricRenderer::set_count_fragments(bool on) { impl_->set_count_fragments(on); }
 std::uint64_t QuadricRenderer::fragment_invocations() const { return impl_->fragment_invocations(); }

@@ -103,6 +103,12 @@ std::string bound_glsl(const std::string& proj, bool rects, bool all_corners = f
     return m.str();
 }
 
+/// The workgroup's index along a record list: the passes over records dispatch their workgroups
+/// in rows of at most 65535 (GL's guaranteed limit per dimension), so lists of more than 4M
+/// records take several rows (`dispatch_rows` in quadric_renderer.cpp).
+const char* linear_group_glsl =
+    "uint qc_linear_group() { return gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x; }\n\n";
+
 /// The clip planes of the planes variant (one set per record of the draw, index prim - qc_first),
 /// read by the fragment stage's clip test and by the bounding geometry of `qc_bound` 3.
 const char* planes_glsl =
@@ -449,7 +455,7 @@ Stage occluder_shader() {
     add_kernel(s, fns, "occluder_chain_count");
     add_kernel(s, fns, "occluder_chain_disk");
     std::ostringstream m;
-    m << "layout(local_size_x = 64) in;\n\n" << record_glsl << occlusion_buffers
+    m << "layout(local_size_x = 64) in;\n\n" << record_glsl << occlusion_buffers << linear_group_glsl
       << "uniform vec3 qc_right, qc_up;    // first two rows of the world->view rotation\n"
          "uniform vec3 qc_occluder_range;  // near and far view distances an occluder must lie between, gap (quadcast::render::occlusion_range)\n"
          "uniform vec4 qc_pz;             // P22, P32, P23, P33 of the projection\n"
@@ -477,8 +483,9 @@ Stage occluder_shader() {
          "        }\n"
          "}\n\n"
          "void main()\n{\n"
-         "    if (gl_GlobalInvocationID.x >= qc_count) return;\n"
-         "    uint prim = qc_first + gl_GlobalInvocationID.x;\n"
+         "    uint i = qc_linear_group() * 64u + gl_LocalInvocationID.x;\n"
+         "    if (i >= qc_count) return;\n"
+         "    uint prim = qc_first + i;\n"
          "    vec4 ball = qc_occluder[2u * prim];\n"
          "    vec4 more = qc_occluder[2u * prim + 1u];  // bounding radius, the chain's half axis\n"
          "    float r_in = ball.w;\n"
@@ -526,7 +533,7 @@ Stage cull_shader() {
     add_kernel(s, fns, "pixel_span");
     add_kernel(s, fns, "nearest_distance");
     std::ostringstream m;
-    m << "layout(local_size_x = 64) in;\n\n" << record_glsl << occlusion_buffers
+    m << "layout(local_size_x = 64) in;\n\n" << record_glsl << occlusion_buffers << linear_group_glsl
       << "layout(std430, binding = 5) buffer qc_Commands { uint qc_command[]; };  // DrawElementsIndirectCommand per variant, then statistics\n"
          "layout(std430, binding = 6) writeonly buffer qc_Keep { uint qc_keep[]; };   // per record: 0 culled, else 1 + its slot in the workgroup\n"
          "layout(std430, binding = 7) writeonly buffer qc_Groups { uint qc_groups[]; };  // per workgroup of 64 records: the kept ones\n"
@@ -570,15 +577,17 @@ Stage cull_shader() {
          "shared uint qc_flags[64];\n\n"
          "void main()\n{\n"
          "    uint t = gl_LocalInvocationID.x;\n"
-         "    uint prim = qc_first + gl_GlobalInvocationID.x;\n"
-         "    bool inside = gl_GlobalInvocationID.x < qc_count;\n"
+         "    uint group = qc_linear_group();\n"
+         "    if (group >= (qc_count + 63u) / 64u) return;  // (a whole workgroup past the records: the dispatch's last row)\n"
+         "    uint prim = qc_first + group * 64u + t;\n"
+         "    bool inside = group * 64u + t < qc_count;\n"
          "    bool kept = inside && qc_kept(prim);\n"
          "    qc_flags[t] = kept ? 1u : 0u;\n"
          "    barrier();\n"
          "    if (t == 0u) {  // exclusive prefix sum of the workgroup's flags, and its count\n"
          "        uint run = 0u;\n"
          "        for (uint r = 0u; r < 64u; ++r) { uint f = qc_flags[r]; qc_flags[r] = run; run += f; }\n"
-         "        qc_groups[gl_WorkGroupID.x] = run;\n"
+         "        qc_groups[group] = run;\n"
          "    }\n"
          "    barrier();\n"
          "    if (inside) qc_keep[prim] = kept ? qc_flags[t] + 1u : 0u;  // 1 + the kept records before it in the workgroup\n"
@@ -624,10 +633,11 @@ const char* compact_shader =
     "uniform uint qc_first;  // the variant's first record\n"
     "uniform uint qc_count;  // its records\n\n"
     "void main()\n{\n"
-    "    uint i = gl_GlobalInvocationID.x;\n"
+    "    uint group = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;  // (qc_linear_group)\n"
+    "    uint i = group * 64u + gl_LocalInvocationID.x;\n"
     "    if (i >= qc_count) return;\n"
     "    uint k = qc_keep[qc_first + i];\n"
-    "    if (k != 0u) qc_visible[qc_first + qc_groups[gl_WorkGroupID.x] + k - 1u] = qc_first + i;\n"
+    "    if (k != 0u) qc_visible[qc_first + qc_groups[group] + k - 1u] = qc_first + i;\n"
     "}\n";
 
 /// Occlusion pass 6, the vertex stage's per-primitive work (OcclusionPass::bounds), one invocation
@@ -663,8 +673,8 @@ Stage bounds_shader(bool sphere, bool ortho) {
         m << "uniform bool qc_slab_quad;        // slab bounds: the quadrilateral along the axis, else the rectangle\n"
              "uniform vec3 qc_eye;\nuniform bool qc_cull;\nuniform bool qc_caps;   // the variant closes a slab with caps\n";
     m << "\n" << fns.str()
-      << "void main()\n{\n"
-         "    uint i = gl_GlobalInvocationID.x;\n"
+      << linear_group_glsl << "void main()\n{\n"
+         "    uint i = qc_linear_group() * 64u + gl_LocalInvocationID.x;\n"
          "    if (i >= qc_command[qc_command_at] / 6u) return;\n"
          "    uint slot = qc_first + i;\n"
          "    uint prim = qc_visible[slot];\n"

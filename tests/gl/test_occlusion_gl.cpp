@@ -158,6 +158,41 @@ TEST_CASE("the occlusion cull pass changes no pixel of the GL renderer") {
     }
 }
 
+TEST_CASE("the passes over records dispatched in many rows of workgroups give the same picture") {
+    // A variant of more than 4M primitives needs more than 65535 workgroups of 64: the passes
+    // dispatch them in rows (QuadricRenderer::set_dispatch_row_limit). Rows of 1 and 3 workgroups
+    // here stand for that, with the cull pass, its compaction, the occluders and the bounds pass.
+    gl::OsmesaContext ctx;
+    gl::QuadricRenderer r(ctx.api());
+    const int w = 320, h = 240;
+    Light light;
+    for (const Case& s : occlusion_cases(w, h)) {
+        r.set_primitives(s.prims);
+        RenderOptions o;
+        o.width = w;
+        o.height = h;
+        r.draw(s.camera, light, o);
+        const Image one_row = r.read();
+        for (const std::uint32_t rows : {1u, 3u})
+            for (const bool compute : {false, true}) {
+                r.set_dispatch_row_limit(rows);
+                r.set_compute_bounds(compute);
+                r.draw(s.camera, light, o);
+                const ImageDiff d = image_diff(r.read(), one_row);
+                std::printf("[dispatch rows] %s, rows of %u workgroups%s: %ld covered px, %ld coverage / %ld colour / %ld depth differences; %zu of %zu primitives drawn\n",
+                            s.name.c_str(), rows, compute ? ", bounds pass" : "", d.covered, d.coverage_diff, d.color_diff, d.depth_diff, r.drawn_primitives(), s.prims.size());
+                CAPTURE(s.name);
+                CHECK(d.covered > 300);
+                CHECK(d.coverage_diff == 0);
+                CHECK(d.color_diff == 0);
+                CHECK(d.depth_diff == 0);
+                CHECK(r.drawn_primitives() < s.prims.size() + 1);
+            }
+        r.set_dispatch_row_limit(65535);
+        r.set_compute_bounds(false);
+    }
+}
+
 TEST_CASE("the occlusion cull pass keeps exactly what shows in front of a large sphere and nothing off screen") {
     gl::OsmesaContext ctx;
     gl::QuadricRenderer r(ctx.api());

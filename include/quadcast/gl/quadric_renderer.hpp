@@ -66,6 +66,11 @@ public:
     /// computes them, once per corner. The same picture; a benchmark switch. Off by default
     /// because it did not pay on llvmpipe: `quadcast bench spheres` / `bench sticks`, column 'comp'.
     void set_compute_bounds(bool on);
+    /// The compute passes over records dispatch their workgroups (64 records each) in rows of at
+    /// most this many (default and upper limit 65535, GL's guaranteed limit per dimension), so
+    /// that a variant with more than 4M primitives can be culled. A test switch: smaller rows
+    /// give the same picture.
+    void set_dispatch_row_limit(std::uint32_t groups);
     /// Samples that passed (GL_SAMPLES_PASSED) in the primitive pass of the last `draw`.
     std::uint64_t samples_passed() const;
     /// Count fragment-shader invocations of the primitive pass (GL_ARB_pipeline_statistics_query,
