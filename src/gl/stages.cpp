@@ -625,15 +625,15 @@ const char* scan_shader =
 /// visible list at its workgroup's first slot plus its slot in the workgroup (qc_keep - 1).
 /// In record order, so that primitives at exactly the same depth in a pixel are drawn, and win the
 /// depth test, in the order they are without the cull pass.
-const char* compact_shader =
+const std::string compact_shader = std::string(
     "layout(local_size_x = 64) in;\n\n"
     "layout(std430, binding = 4) writeonly buffer qc_Visible { uint qc_visible[]; };\n"
     "layout(std430, binding = 6) readonly buffer qc_Keep { uint qc_keep[]; };\n"
     "layout(std430, binding = 7) readonly buffer qc_Groups { uint qc_groups[]; };\n"
     "uniform uint qc_first;  // the variant's first record\n"
-    "uniform uint qc_count;  // its records\n\n"
+    "uniform uint qc_count;  // its records\n\n") + linear_group_glsl +
     "void main()\n{\n"
-    "    uint group = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;  // (qc_linear_group)\n"
+    "    uint group = qc_linear_group();\n"
     "    uint i = group * 64u + gl_LocalInvocationID.x;\n"
     "    if (i >= qc_count) return;\n"
     "    uint k = qc_keep[qc_first + i];\n"
