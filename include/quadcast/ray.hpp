@@ -1,8 +1,10 @@
 // quadcast/ray.hpp -- ray/quadric intersection: coefficients, root selection, bound tests
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <type_traits>
 
 #include "quadcast/linalg.hpp"
 #include "quadcast/quadric.hpp"
@@ -456,6 +458,27 @@ template <class T>
 struct BoundingTet {
     Vec3<T> p[4];
 };
+
+/// Six times the volume of a tetrahedron and its longest edge: vol6 / longest^3 tells how flat it
+/// is (a regular tetrahedron's 0.71, 0 for coplanar corners). Host-side.
+template <class T>
+struct TetShape {
+    T vol6 = T(0), longest = T(0);
+    /// vol6 <= ratio longest^3, or either is NaN.
+    bool flatter_than(const T& ratio) const { return !(vol6 > ratio * longest * longest * longest); }
+};
+
+/// `TetShape` of the corners p[0..3] (a C array, std::array or BoundingTet::p).
+/// Numerics: vol6 = |dot(p1 - p0, cross(p2 - p0, p3 - p0))|; longest = max |p[j] - p[i]| over i < j.
+template <class P>
+auto tet_shape(const P& p) {
+    using T = std::decay_t<decltype(p[0][0])>;
+    TetShape<T> s;
+    s.vol6 = std::fabs(dot(p[1] - p[0], cross(p[2] - p[0], p[3] - p[0])));
+    for (int i = 0; i < 4; ++i)
+        for (int j = i + 1; j < 4; ++j) s.longest = std::max(s.longest, length(p[j] - p[i]));
+    return s;
+}
 
 /// The four face planes of a tetrahedron, oriented inwards: x is inside when
 /// dot(plane[i], (x, 1)) >= 0 for all i (the paper's M_clip, sec. 5.1.2, with the sign flipped).

@@ -197,9 +197,8 @@ SkinSurface::SkinSurface(const std::vector<scene::SkinBall>& balls, double shrin
         }
         Vec3d mid{{0, 0, 0}};
         for (const Vec3d& x : p) mid = mid + x * 0.25;
-        double longest = 0;
-        for (int a = 0; a < 4; ++a)
-            for (int b = a + 1; b < 4; ++b) longest = std::max(longest, length(p[std::size_t(a)] - p[std::size_t(b)]));
+        const TetShape<double> shape = tet_shape(p);
+        const double longest = shape.longest;
         const std::shared_ptr<Surface>& s = c->info().second;
         const auto grad = [&](const Vec3d& x) {
             const K::Vector_3 g = s->gradient(point(x));
@@ -244,8 +243,7 @@ SkinSurface::SkinSurface(const std::vector<scene::SkinBall>& balls, double shrin
         }
         if (bmin > 0 || bmax < 0 || (bmin == 0 && bmax == 0)) continue;
         // A flat cell (CGAL's triangulation may hold slivers) covers nothing.
-        const double vol6 = std::fabs(dot(p[1] - p[0], cross(p[2] - p[0], p[3] - p[0])));
-        if (!(vol6 > 1e-12 * longest * longest * longest)) continue;
+        if (shape.flatter_than(1e-12)) continue;
         // Smaller clip tetrahedra where the surface fills little of the cell (same quadric).
         ++m.stats.cells_crossed;
         BoundingTet<double> cell_tet{};

@@ -9,6 +9,7 @@
 #include <random>
 #include <vector>
 
+#include "core/exact_tet.hpp"
 #include "quadcast/bb/quadric_form.hpp"
 
 using namespace quadcast;
@@ -16,27 +17,10 @@ using LD = long double;
 
 namespace {
 
-LD det3(const Vec3<double>& a, const Vec3<double>& b, const Vec3<double>& c) {
-    return LD(a[0]) * (LD(b[1]) * c[2] - LD(b[2]) * c[1]) - LD(a[1]) * (LD(b[0]) * c[2] - LD(b[2]) * c[0]) + LD(a[2]) * (LD(b[0]) * c[1] - LD(b[1]) * c[0]);
-}
+bool inside(const BoundingTet<double>& t, const Vec3<double>& x, LD slack) { return qc_exact::in_tetrahedron(t.p, x, slack); }
 
-/// The barycentric coordinates of x (long double volume ratios).
-std::array<LD, 4> barycentric(const BoundingTet<double>& t, const Vec3<double>& x) {
-    const LD v = det3(t.p[1] - t.p[0], t.p[2] - t.p[0], t.p[3] - t.p[0]);
-    std::array<LD, 4> l{};
-    for (int i = 0; i < 4; ++i) {
-        BoundingTet<double> q = t;
-        q.p[i] = x;
-        l[std::size_t(i)] = det3(q.p[1] - q.p[0], q.p[2] - q.p[0], q.p[3] - q.p[0]) / v;
-    }
-    return l;
-}
-
-bool inside(const BoundingTet<double>& t, const Vec3<double>& x, LD slack) {
-    for (const LD l : barycentric(t, x))
-        if (l < -slack) return false;
-    return true;
-}
+/// Six times the volume of t, in long double.
+LD volume6(const BoundingTet<double>& t) { return std::fabs(qc_exact::volume6(t.p[0], t.p[1], t.p[2], t.p[3])); }
 
 /// f(x) = x^T A x + 2 b.x + c in long double.
 LD value(const Quadric<double>& q, const Vec3<double>& x) {
@@ -79,7 +63,7 @@ TEST_CASE("refined clip tetrahedra hold the whole zero set of their parent and t
         // A random tetrahedron and a sphere, cylinder or hyperboloid through a small part of it.
         BoundingTet<double> t{};
         for (auto& p : t.p) p = vec3(u(rng), u(rng), u(rng));
-        const LD v6 = std::fabs(det3(t.p[1] - t.p[0], t.p[2] - t.p[0], t.p[3] - t.p[0]));
+        const LD v6 = volume6(t);
         if (v6 < 0.05) continue;
         Quadric<double> q{};
         const Vec3<double> c = t.p[it % 4] + vec3(u(rng), u(rng), u(rng)) * 0.3;
@@ -96,7 +80,7 @@ TEST_CASE("refined clip tetrahedra hold the whole zero set of their parent and t
         refined += kept.size() > 1;
         children += static_cast<long>(kept.size());
         volume_parent += double(v6);
-        for (const auto& k : kept) volume_kept += double(std::fabs(det3(k.p[1] - k.p[0], k.p[2] - k.p[0], k.p[3] - k.p[0])));
+        for (const auto& k : kept) volume_kept += double(volume6(k));
         // The zero set: random points of the parent pulled onto it by Newton steps (long double
         // values), kept when they stay in the parent.
         for (int n = 0; n < 400; ++n) {
@@ -130,13 +114,13 @@ TEST_CASE("red refinement tiles its parent and the BB sign test bounds sampled v
     for (int it = 0; it < 200; ++it) {
         BoundingTet<double> t{};
         for (auto& p : t.p) p = vec3(u(rng), u(rng), u(rng));
-        const LD v6 = std::fabs(det3(t.p[1] - t.p[0], t.p[2] - t.p[0], t.p[3] - t.p[0]));
+        const LD v6 = volume6(t);
         if (v6 < 0.01) continue;
         // Eight children of an eighth of the volume each; a random point lies in one (or on shared faces).
         LD sum = 0;
         const auto kids = bb::red_refinement(t);
         for (const auto& k : kids) {
-            const LD kv = std::fabs(det3(k.p[1] - k.p[0], k.p[2] - k.p[0], k.p[3] - k.p[0]));
+            const LD kv = volume6(k);
             CHECK(std::fabs(double(kv / v6 - 0.125L)) < 1e-12);
             sum += kv;
         }

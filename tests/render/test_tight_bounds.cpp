@@ -8,6 +8,7 @@
 #include <random>
 
 #include "quadcast/render/cpu_renderer.hpp"
+#include "core/exact_tet.hpp"
 #include "render/bounds_scenes.hpp"
 
 using namespace qc_render_test;
@@ -71,21 +72,6 @@ LD ellipsoid_hit(const V3& o, const V3& d, const Traced& t) {
     return sphere_hit(ou, du, vec3(LD(0), LD(0), LD(0)), 1);
 }
 
-LD det3(const V3& a, const V3& b, const V3& c) {
-    return a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) + a[2] * (b[0] * c[1] - b[1] * c[0]);
-}
-
-/// x lies in the tetrahedron: each corner's barycentric coordinate (ratio of volumes) >= 0.
-bool in_tet(const V3 (&p)[4], const V3& x) {
-    const LD v = det3(p[1] - p[0], p[2] - p[0], p[3] - p[0]);
-    for (int i = 0; i < 4; ++i) {
-        V3 q[4] = {p[0], p[1], p[2], p[3]};
-        q[i] = x;
-        if (det3(q[1] - q[0], q[2] - q[0], q[3] - q[0]) / v < 0) return false;
-    }
-    return true;
-}
-
 /// Nearest t > 0 where the ray meets the sphere (centre a, radius r) inside the tetrahedron.
 LD sphere_in_tet_hit(const V3& o, const V3& d, const Traced& t) {
     const V3 oc = o - t.a;
@@ -94,7 +80,7 @@ LD sphere_in_tet_hit(const V3& o, const V3& d, const Traced& t) {
     if (disc < 0) return -1;
     const LD s = std::sqrt(disc);
     for (const LD th : {(-qb - s) / qa, (-qb + s) / qa})
-        if (th > 0 && in_tet(t.tet, o + d * th)) return th;
+        if (th > 0 && qc_exact::in_tetrahedron(t.tet, o + d * th)) return th;
     return -1;
 }
 

@@ -20,6 +20,7 @@
 #include "quadcast/scene/scene_json.hpp"
 #include "quadcast/scene/scene_render.hpp"
 #include "quadcast/skin/skin.hpp"
+#include "core/exact_tet.hpp"
 #include "render/render_testing.hpp"
 #include "scene/helpers.hpp"
 
@@ -412,19 +413,7 @@ TEST_CASE("refined clip tetrahedra hold every surface point of their cell and dr
     long samples = 0, outside = 0;
     double volume_whole = 0, volume_kept = 0;
     const auto vol = [](const std::array<Vec3d, 4>& t) { return std::fabs(dot(t[1] - t[0], cross(t[2] - t[0], t[3] - t[0]))) / 6.0; };
-    const auto inside = [](const std::array<Vec3d, 4>& t, const Vec3d& x) {
-        using LD = long double;
-        const auto det = [](const Vec3d& a, const Vec3d& b, const Vec3d& c) {
-            return LD(a[0]) * (LD(b[1]) * c[2] - LD(b[2]) * c[1]) - LD(a[1]) * (LD(b[0]) * c[2] - LD(b[2]) * c[0]) + LD(a[2]) * (LD(b[0]) * c[1] - LD(b[1]) * c[0]);
-        };
-        const LD v = det(t[1] - t[0], t[2] - t[0], t[3] - t[0]);
-        for (int i = 0; i < 4; ++i) {
-            std::array<Vec3d, 4> q = t;
-            q[std::size_t(i)] = x;
-            if (det(q[1] - q[0], q[2] - q[0], q[3] - q[0]) / v < -1e-9L) return false;
-        }
-        return true;
-    };
+    const auto inside = [](const std::array<Vec3d, 4>& t, const Vec3d& x) { return qc_exact::in_tetrahedron(t, x, 1e-9L); };
     for (const auto& [cell, tet] : cells) {
         volume_whole += vol(tet);
         for (const auto& t : kept[cell]) volume_kept += vol(t);

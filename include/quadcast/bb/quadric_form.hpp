@@ -142,11 +142,8 @@ void refine_crossing(const Quadric<T>& q, const BoundingTet<T>& t, int levels, i
             if (quadric_may_cross(q, k)) {
                 kept[n++] = k;
                 // (A flat child, from a sliver parent, would be refused as a clip tetrahedron.)
-                T longest = T(0);
-                for (int i = 0; i < 4; ++i)
-                    for (int j = i + 1; j < 4; ++j) longest = std::max(longest, length(k.p[j] - k.p[i]));
-                const T vol6 = std::fabs(dot(k.p[1] - k.p[0], cross(k.p[2] - k.p[0], k.p[3] - k.p[0])));
-                flat = (flat || !(vol6 > T(0.001) * longest * longest * longest)) || !(longest >= min_edge);
+                const TetShape<T> shape = tet_shape(k.p);
+                flat = (flat || shape.flatter_than(T(0.001))) || !(shape.longest >= min_edge);
             }
         if (n > 0 && n <= max_kept && !flat) {
             for (int i = 0; i < n; ++i) refine_crossing(q, kept[i], levels - 1, max_kept, min_edge, out);
