@@ -72,7 +72,9 @@ struct Gl {
 /// Coverage and depth differences of two images of the same view.
 struct Diff {
     long covered = 0, coverage = 0, isolated = 0, colour = 0;
+    long deep = 0;       ///< pixels both cover whose window depths differ by more than 1e-3
     double depth = 0;
+    int at_x = -1, at_y = -1;  ///< where the largest depth difference is (image rows top first)
 };
 Diff image_diff(const render::Image& a, const render::Image& b) {
     Diff d;
@@ -94,7 +96,13 @@ Diff image_diff(const render::Image& a, const render::Image& b) {
                 continue;
             }
             if (!ca) continue;
-            d.depth = std::max(d.depth, std::fabs(double(a.depth[i]) - double(b.depth[i])));
+            const double dd = std::fabs(double(a.depth[i]) - double(b.depth[i]));
+            d.deep += dd > 1e-3;
+            if (dd > d.depth) {
+                d.depth = dd;
+                d.at_x = x;
+                d.at_y = y;
+            }
             for (int c = 0; c < 3; ++c)
                 if (std::abs(int(a.rgba[4 * i + c]) - int(b.rgba[4 * i + c])) > 2) {
                     ++d.colour;
@@ -125,8 +133,8 @@ void compare_qss_methods(Gl& gl, const render::VolumeModel& m, const render::Lig
                 dset_bytes / double(std::max<std::size_t>(relevant, 1)));
     std::printf("  quadric: %zu pieces built in %.0f ms from the prepared model, %.0f B of primitive record per piece kept on the GPU\n",
                 pieces.size(), conv, record_bytes);
-    std::printf("%-9s %12s %12s %8s %16s %8s %13s %8s %10s %10s %10s %10s\n", "view", "bezier ms", "quadric ms", "ratio", "quadric no occl", "ratio",
-                "quadric comp", "ratio", "covered", "cov diff", "isolated", "max depth");
+    std::printf("%-9s %12s %12s %8s %16s %8s %13s %8s %10s %10s %10s %10s %8s\n", "view", "bezier ms", "quadric ms", "ratio", "quadric no occl", "ratio",
+                "quadric comp", "ratio", "covered", "cov diff", "isolated", "max depth", "deep");
     render::RenderOptions oq = o;
     oq.culling = false;  // isosurface pieces are two-sided (render::isosurface_culling_note)
     render::RenderOptions no_occl = oq;
@@ -168,11 +176,16 @@ void compare_qss_methods(Gl& gl, const render::VolumeModel& m, const render::Lig
         if (dc.coverage != 0 || dc.depth != 0)
             std::printf("the compute pass's bounds changed the quadric image: %ld coverage differences, max depth difference %.2g\n", dc.coverage, dc.depth);
         const double b = median(tb);
-        std::printf("%-9s %12.1f %12.1f %7.2fx %16.1f %7.2fx %13.1f %7.2fx %10ld %10ld %10ld %10.2g\n", dist > 1 ? "whole" : "close-up", b, median(tq), b / median(tq),
-                    median(tn), b / median(tn), median(tc), b / median(tc), d.covered, d.coverage, d.isolated, d.depth);
+        std::printf("%-9s %12.1f %12.1f %7.2fx %16.1f %7.2fx %13.1f %7.2fx %10ld %10ld %10ld %10.2g %8ld", dist > 1 ? "whole" : "close-up", b, median(tq), b / median(tq),
+                    median(tn), b / median(tn), median(tc), b / median(tc), d.covered, d.coverage, d.isolated, d.depth, d.deep);
+        if (d.depth > 0) std::printf("  (largest at pixel %d, %d: bezier %.6f, quadric %.6f)", d.at_x, d.at_y,
+                                     double(bez.depth[static_cast<std::size_t>(d.at_y) * bez.width + d.at_x]),
+                                     double(quad.depth[static_cast<std::size_t>(d.at_y) * quad.width + d.at_x]));
+        std::printf("\n");
     }
     std::printf("(ratio > 1: the quadrics are faster; cov diff: pixels covered by one image only, isolated: of those, the ones with no\n"
-                " coverage edge next to them in the Bezier image; max depth: largest window-depth difference where both cover)\n");
+                " coverage edge next to them in the Bezier image; max depth: largest window-depth difference where both cover;\n"
+                " deep: pixels both cover whose window depths differ by more than 1e-3)\n");
 }
 
 void run(const IsoBenchOptions& a) {
