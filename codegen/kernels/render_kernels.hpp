@@ -538,6 +538,32 @@ struct OccluderDepthKernel {
     }
 };
 
+/// Occlusion culling from a depth buffer: a view distance no nearer than the surface it holds at
+/// a window depth (`distance_of_window_depth`).
+struct DepthDistanceKernel {
+    static constexpr const char* name = "depth_distance";
+    static constexpr const char* source = "quadcast::distance_of_window_depth (quadcast/occlusion.hpp)";
+    static constexpr const char* summary = "a view distance no nearer than what a depth buffer holds at a window depth";
+    template <class IO> static void run(IO& io) {
+        using T = typename IO::T;
+        const T w = io.scalar("w");
+        const Vec4<T> pz = io.template vec<4>("pz");
+        mask_t<T> far;
+        const T s = distance_of_window_depth(w, pz, far);
+        io.out("s", s);
+        io.out("far", far);
+    }
+    static void generate(std::mt19937& rng, std::span<float> in) {
+        std::size_t p = 0;
+        put(in, p, uniform(rng, 0.0f, 1.0f));
+        const float n = uniform(rng, 0.01f, 10.0f), f = n * uniform(rng, 2.0f, 1e3f);
+        if (uniform(rng, 0.0f, 1.0f) < 0.25f)
+            put(in, p, vec4(-2.0f / (f - n), -(f + n) / (f - n), 0.0f, 1.0f));  // orthographic
+        else
+            put(in, p, vec4(-(f + n) / (f - n), -2.0f * f * n / (f - n), -1.0f, 0.0f));
+    }
+};
+
 /// Occlusion culling, per primitive: the nearest view distance of its bounding sphere
 /// (`view_distance`, `nearest_distance`).
 struct NearestDistanceKernel {

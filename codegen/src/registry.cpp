@@ -62,6 +62,7 @@ const std::vector<KernelDef>& registry() {
         make_kernel<NeighbourTexelKernel>(),
         make_kernel<OccluderDepthKernel>(),
         make_kernel<NearestDistanceKernel>(),
+        make_kernel<DepthDistanceKernel>(),
         make_kernel<OccluderEllipseKernel>(),
         make_kernel<OccluderChainCountKernel>(),
         make_kernel<OccluderChainDiskKernel>(),

@@ -732,6 +732,46 @@ Vec2<T> miter_vertex(const Vec2<T>& prev, const Vec2<T>& v, const Vec2<T>& next,
 
 }  // namespace detail
 
+/// Corner j of the region four planes accept (inward planes `pl`, each shifted by the clip test's
+/// slack by the caller): where the three planes other than j meet,
+/// x_j = -(d_a (n_b x n_c) + d_b (n_c x n_a) + d_c (n_a x n_b)) / (n_a . (n_b x n_c)) for
+/// a, b, c = planes j + 1, j + 2, j + 3 (mod 4). `ok` when the three meet at an angle,
+/// |n_a . (n_b x n_c)| > min_sine |n_a| |n_b| |n_c| (2^-8 for float corners), and plane j is
+/// positive there; the four half-spaces bound exactly the tetrahedron of these corners when all
+/// four are ok.
+/// Numerics: dots are left folds; cross products as `cross`.
+template <class T>
+Vec3<T> tetra_corner(const Vec4<T> (&pl)[4], int j, mask_t<T>& ok, const T& min_sine = T(0.00390625)) {
+    const Vec4<T>& a = pl[(j + 1) % 4];
+    const Vec4<T>& b = pl[(j + 2) % 4];
+    const Vec4<T>& c = pl[(j + 3) % 4];
+    const Vec3<T> na = xyz(a), nb = xyz(b), nc = xyz(c);
+    const Vec3<T> bc = cross(nb, nc), ca = cross(nc, na), ab = cross(na, nb);
+    const T d = dot(na, bc);
+    const mask_t<T> d_ok = abs(d) > min_sine * ((length(na) * length(nb)) * length(nc));  // false for NaN
+    const Vec3<T> x = -((bc * a[3] + ca * b[3]) + ab * c[3]) / select(d_ok, d, T(1));
+    ok = d_ok && (dot(pl[j], vec4(x, T(1))) > T(0));
+    return x;
+}
+
+/// Whether all the surface a `planes` primitive can show lies in its bounding ball (`radius`
+/// around its centre; `planes` local): the planes, shifted by `clip_plane_slack` as the clip test
+/// accepts, bound a tetrahedron (`tetra_corner` ok for all four corners) whose corners lie within
+/// radius (1 + 2^-11), inside the ball of `nearest_distance`. Bilinear quads' extruded edge planes
+/// bound no tetrahedron: their saddle may show outside the ball, inside their screen quad.
+/// Host-side (double; corners of planes meeting at any angle above 2^-40, slivers included).
+inline bool planes_within_ball(const Vec4<double> (&planes)[4], double radius) {
+    Vec4<double> pl[4];
+    for (int i = 0; i < 4; ++i) pl[i] = planes[i] + vec4(0.0, 0.0, 0.0, clip_plane_slack);
+    const double limit = radius * (1.0 + 1.0 / 2048.0);
+    for (int j = 0; j < 4; ++j) {
+        bool ok = false;
+        const Vec3<double> x = tetra_corner(pl, j, ok, 1.0 / 1099511627776.0);
+        if (!ok || !(dot(x, x) <= limit * limit)) return false;
+    }
+    return true;
+}
+
 /// The padded screen quadrilateral of a primitive clipped to four planes that bound a
 /// tetrahedron (`planes`, inward, local coordinates around `center`; the `planes` variants):
 /// the convex hull of the projected corners of the region the clip test accepts
@@ -767,15 +807,9 @@ ScreenQuad<T> tetra_quad(const Mat4<T>& view_projection, const Vec4<T> (&planes)
     mask_t<T> ok = mask_t<T>(true), front = mask_t<T>(true), behind = mask_t<T>(true);
     Vec2<T> px[4];
     for (int j = 0; j < 4; ++j) {
-        const Vec4<T>& a = pl[(j + 1) % 4];
-        const Vec4<T>& b = pl[(j + 2) % 4];
-        const Vec4<T>& c = pl[(j + 3) % 4];
-        const Vec3<T> na = xyz(a), nb = xyz(b), nc = xyz(c);
-        const Vec3<T> bc = cross(nb, nc), ca = cross(nc, na), ab = cross(na, nb);
-        const T d = dot(na, bc);
-        const mask_t<T> d_ok = abs(d) > T(0.00390625) * ((length(na) * length(nb)) * length(nc));  // false for NaN
-        const Vec3<T> x = -((bc * a[3] + ca * b[3]) + ab * c[3]) / select(d_ok, d, T(1));
-        ok = (ok && d_ok) && (dot(pl[j], vec4(x, T(1))) > T(0));
+        mask_t<T> corner_ok;
+        const Vec3<T> x = tetra_corner(pl, j, corner_ok);
+        ok = ok && corner_ok;
         const Vec4<T> xh = vec4(x, T(1));
         const T cx = dot(r1, xh), cy = dot(r2, xh), cz = dot(r3, xh), cw = dot(r4, xh);
         front = (front && (cw > T(0))) && (cz + cw > T(0.0009765625) * cw);

@@ -36,6 +36,20 @@ T window_depth_of(const T& s, const Vec4<T>& pz) {
     return ((pz[0] * z + pz[1]) / (pz[2] * z + pz[3])) * T(0.5) + T(0.5);
 }
 
+/// A view distance no nearer than the surface a depth buffer holds at window depth `w` (the
+/// inverse of `window_depth_of`, from w + 2^-22, which outweighs the rounding of the inversion
+/// for both camera models): z = (P32 - ndc P33) / (ndc P23 - P22) for ndc = 2 (w + 2^-22) - 1,
+/// s = -z. Not usable (`far`: the background, or nothing nearer than the far plane) for
+/// w + 2^-22 >= 1; the caller then leaves the pixel's value as it is.
+/// Numerics: as written, one rounding per operation.
+template <class T>
+T distance_of_window_depth(const T& w, const Vec4<T>& pz, mask_t<T>& far) {
+    const T wu = w + T(1.0 / 4194304.0);
+    far = !(wu < T(1));
+    const T ndc = wu * T(2) - T(1);
+    return -((pz[1] - ndc * pz[3]) / (ndc * pz[2] - pz[0]));
+}
+
 /// The nearest view distance a primitive can show at: its bounding sphere's, s - radius, with
 /// the radius grown by 2^-10 (validation accepts shapes reaching 1e-4 beyond their bounding radius).
 /// Numerics: s - radius * (1 + 2^-10).

@@ -25,6 +25,7 @@
 #include <glm/vec3.hpp>
 
 #include "quadcast/bilinear.hpp"
+#include "quadcast/bounds.hpp"
 #include "quadcast/camera.hpp"
 #include "quadcast/glm_interop.hpp"
 #include "quadcast/primitives.hpp"
@@ -319,25 +320,26 @@ inline render::Primitive quadric(const glm::dmat4& q_world, const TetrahedronBou
     detail::V3 c;
     double r;
     detail::bounding_sphere(p, c, r);
-    const double vol = std::fabs(dot(p[1] - p[0], cross(p[2] - p[0], p[3] - p[0])));
-    double longest = 0;
-    for (int i = 0; i < 4; ++i)
-        for (int j = i + 1; j < 4; ++j) longest = std::max(longest, length(p[static_cast<std::size_t>(j)] - p[static_cast<std::size_t>(i)]));
-    if (!std::isfinite(vol) || !std::isfinite(longest)) detail::fail(fn, "the tetrahedron's size overflows");
-    if (!(vol > 1e-12 * longest * longest * longest)) detail::fail(fn, "the tetrahedron is flat (its corners are coplanar)");
+    const TetShape<double> shape = tet_shape(p);
+    if (!std::isfinite(shape.vol6) || !std::isfinite(shape.longest)) detail::fail(fn, "the tetrahedron's size overflows");
+    if (shape.flatter_than(1e-12)) detail::fail(fn, "the tetrahedron is flat (its corners are coplanar)");
     render::Primitive prim = detail::make(fn, translate_to_eye(q, c), c, r, render::Variant::planes, look);
     BoundingTet<double> t{};
     for (int i = 0; i < 4; ++i) t.p[i] = p[static_cast<std::size_t>(i)] - c;
     // Each face plane scaled to the barycentric coordinate of its opposite corner (1 there).
     const TetPlanes<double> pl = barycentric_planes(t);
     for (int i = 0; i < 4; ++i) prim.shape.planes[i] = cast<float>(pl.plane[i]);
-    // The tetrahedron the float planes bound: for a sliver (the triangulated mixed complex of a
-    // skin surface has many) its corners lie measurably off the double ones; the bounding sphere
-    // must hold them, or the renderers would crop the piece.
+    // The tetrahedron the float planes bound, each moved out by the clip test's slack (what the
+    // renderers accept): for a sliver (the triangulated mixed complex of a skin surface has many)
+    // its corners lie measurably off the double ones. The bounding sphere must hold them, or the
+    // renderers would crop the piece, and occlusion culling, which takes every surface point to
+    // lie in the ball, would cull a visible one (quadcast::planes_within_ball).
     // (The extent as render::validate measures it, so that the two agree however thin it is.)
     double e = 0;
     try {
-        e = render::validate_detail::tet_extent(0, prim.shape.planes);
+        Vec4<float> slack[4];
+        for (int i = 0; i < 4; ++i) slack[i] = prim.shape.planes[i] + vec4(0.0f, 0.0f, 0.0f, float(clip_plane_slack));
+        e = render::validate_detail::tet_extent(0, slack);
     } catch (const std::invalid_argument&) {
         detail::fail(fn, "the tetrahedron is too flat for float clip planes");
     }

@@ -7,18 +7,21 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <iterator>
 #include <map>
 #include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "quadcast/bounds.hpp"
 #include "quadcast/gl/framebuffer.hpp"
 #include "quadcast/gl/generated_programs.hpp"
 #include "quadcast/gl/loader.hpp"
 #include "quadcast/gl/program.hpp"
 #include "quadcast/gl/validate.hpp"
 #include "frame_uniforms.hpp"
+#include "quadcast/occlusion.hpp"
 #include "quadcast/render/light_camera.hpp"
 #include "quadcast/render/occluder.hpp"
 #include "quadcast/render/record.hpp"
@@ -195,6 +198,23 @@ public:
         api_->BufferData(GL_SHADER_STORAGE_BUFFER, static_cast<GLsizeiptr>(std::max<std::size_t>(1, records.size()) * sizeof(PrimitiveRecord)),
                          records.empty() ? nullptr : records.data(), GL_STATIC_DRAW);
         upload(occluders_, occluders);
+        // Phased drawing of the planes variant (RenderOptions::occlusion_phases): whether every planes
+        // primitive shows only inside its bounding ball, and a sample of them for the phases' cuts.
+        planes_in_ball_ = true;
+        phase_sample_.clear();
+        {
+            std::size_t n_planes = 0;
+            for (const auto& p : prims) n_planes += p.variant == render::Variant::planes;
+            const std::size_t stride = std::max<std::size_t>(1, n_planes / 4096);
+            std::size_t i = 0;
+            for (const auto& p : prims) {
+                if (p.variant != render::Variant::planes) continue;
+                Vec4<double> pl[4];
+                for (int k = 0; k < 4; ++k) pl[k] = cast<double>(p.shape.planes[static_cast<std::size_t>(k)]);
+                planes_in_ball_ = planes_in_ball_ && planes_within_ball(pl, double(p.shape.radius));
+                if (i++ % stride == 0) phase_sample_.push_back({p.shape.center[0], p.shape.center[1], p.shape.center[2], p.shape.radius});
+            }
+        }
         upload(visible_, std::vector<std::uint32_t>(std::max<std::size_t>(1, records.size())));
         upload(keep_, std::vector<std::uint32_t>(std::max<std::size_t>(1, records.size())));
         api_->BindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
@@ -247,7 +267,7 @@ public:
             gl.ClearBufferfv(GL_DEPTH, 0, &clear_one);
             gl.Enable(GL_DEPTH_TEST);
             gl.DepthFunc(GL_LESS);
-            draw_primitives(light_cam_, light, opt, true, opt.occlusion_culling);  // culled from the light: what it cannot see casts no shadow
+            draw_primitives(light_cam_, light, opt, true, opt.occlusion_culling, stex_);  // culled from the light: what it cannot see casts no shadow
         }
         const float bg[4] = {opt.background[0], opt.background[1], opt.background[2], 1.0f};
         const float one = 1.0f;
@@ -273,7 +293,7 @@ public:
             if (!fs_query_) gl.GenQueries(1, &fs_query_);
             gl.BeginQuery(0x82F4 /* GL_FRAGMENT_SHADER_INVOCATIONS */, fs_query_);
         }
-        draw_primitives(cam, light, opt, deferred, opt.occlusion_culling);
+        draw_primitives(cam, light, opt, deferred, opt.occlusion_culling, tex_[1]);
         gl.EndQuery(GL_SAMPLES_PASSED);
         if (count_fragments_) gl.EndQuery(0x82F4);
         GLuint64 passed = 0;
@@ -297,7 +317,7 @@ public:
             gl.BindBuffer(GL_DRAW_INDIRECT_BUFFER, commands_);
             gl.GetBufferSubData(GL_DRAW_INDIRECT_BUFFER, 0, sizeof cmds, cmds);
             gl.BindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
-            drawn_ = 0;
+            drawn_ = earlier_phases_drawn_;  // (phased drawing: the phases before the last)
             for (int v = 0; v < render::variant_count; ++v) drawn_ += cmds[5 * v] / 6;
             frustum_culled_ = cmds[5 * render::variant_count];
             occluded_ = cmds[5 * render::variant_count + 1];
@@ -314,23 +334,98 @@ public:
 
     /// Draws every variant's primitives with the forward or geometry-buffer programs into the
     /// bound framebuffer, then the other passes (`add_pass`).
-    void draw_primitives(const render::Camera& cam, const render::Light& light, const render::RenderOptions& opt, bool deferred, bool cull_pass = false) {
+    /// The cuts between the phases of phased drawing: quantiles of the sampled planes primitives'
+    /// nearest view distances (`nearest_distance`), phase k ending at (2^(k+1) - 1) / (2^n - 1)
+    /// of them (a small first phase of the nearest, then ever larger ones).
+    std::vector<float> phase_cuts(const render::Camera& cam, int n) const {
+        const Vec3<float> vz_row = vec3(cam.view[0][2], cam.view[1][2], cam.view[2][2]);
+        const float vz_t = cam.view[3][2];
+        std::vector<float> keys;
+        keys.reserve(phase_sample_.size());
+        for (const auto& b : phase_sample_) {
+            const float k = nearest_distance(view_distance(vz_row, vz_t, vec3(b[0], b[1], b[2])), b[3]);
+            if (std::isfinite(k)) keys.push_back(k);
+        }
+        std::sort(keys.begin(), keys.end());
+        std::vector<float> cuts;
+        const double total = double((1u << n) - 1u);
+        for (int k = 0; k + 1 < n; ++k) {
+            const double f = double((2u << k) - 1u) / total;
+            cuts.push_back(keys.empty() ? 0.0f : keys[std::min(keys.size() - 1, static_cast<std::size_t>(f * double(keys.size())))]);
+        }
+        return cuts;
+    }
+
+    /// The phase of a cull pass: its index of `count`, and the window [lo, hi) of nearest view
+    /// distances of the planes primitives it keeps (the first phase from -infinity, the last to
+    /// +infinity); a single phase keeps all. `depth_target`: the depth texture the draws write.
+    struct Phase {
+        int index = 0, count = 1;
+        float lo = 0.0f, hi = 0.0f;
+        GLuint depth_target = 0;
+        bool first() const { return index == 0; }
+        bool last() const { return index + 1 == count; }
+    };
+
+    /// With `cull_pass` and a depth target, the planes primitives, when all show only inside their
+    /// bounding balls (`planes_within_ball`) and there are at least 4096 of them, are drawn in
+    /// RenderOptions::occlusion_phases phases by nearest view distance (`phase_cuts`); after each, the cull pass of the
+    /// next takes the depth buffer into its depth image (OcclusionPass::depth_image), so what the
+    /// earlier phases drew hides what lies behind it. The other variants draw in the first phase.
+    void draw_primitives(const render::Camera& cam, const render::Light& light, const render::RenderOptions& opt, bool deferred, bool cull_pass = false,
+                         GLuint depth_target = 0) {
         const Api& gl = *api_;
         GLint viewport[4] = {0, 0, 1, 1};
         gl.GetIntegerv(GL_VIEWPORT, viewport);
         cull_pass = cull_pass && count_ > 0;  // (no primitives: nothing to cull, nothing drawn)
+        const int planes_v = static_cast<int>(render::Variant::planes);
+        const int phases = std::clamp(opt.occlusion_phases, 1, 8);
+        const bool phased = cull_pass && depth_target != 0 && phases > 1 && planes_in_ball_ && ranges_[planes_v].second >= 4096;
+        const std::vector<float> cuts = phased ? phase_cuts(cam, phases) : std::vector<float>{};
+        earlier_phases_drawn_ = 0;
+        const int phase_count = phased ? phases : 1;
+        for (int k = 0; k < phase_count; ++k) {
+            Phase ph;
+            ph.index = k;
+            ph.count = phase_count;
+            ph.lo = k > 0 ? cuts[static_cast<std::size_t>(k - 1)] : 0.0f;
+            ph.hi = k + 1 < phase_count ? cuts[static_cast<std::size_t>(k)] : 0.0f;
+            ph.depth_target = depth_target;
+            draw_phase(cam, light, opt, deferred, cull_pass, ph, viewport);
+            if (!ph.last()) {  // the drawn primitives of this phase (the last one's: `draw`)
+                std::uint32_t cmds[5 * render::variant_count];
+                gl.BindBuffer(GL_DRAW_INDIRECT_BUFFER, commands_);
+                gl.GetBufferSubData(GL_DRAW_INDIRECT_BUFFER, 0, sizeof cmds, cmds);
+                gl.BindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
+                for (int v = 0; v < render::variant_count; ++v) earlier_phases_drawn_ += cmds[5 * v] / 6;
+            }
+        }
+        gl.Enable(GL_DEPTH_CLAMP);  // (as for the primitives)
+        for (ScenePass* p : passes_) p->draw(cam, light, opt, deferred);
+        gl.Disable(GL_DEPTH_CLAMP);
+    }
+
+    /// One phase of `draw_primitives`: its cull pass, then its primitives.
+    void draw_phase(const render::Camera& cam, const render::Light& light, const render::RenderOptions& opt, bool deferred, bool cull_pass,
+                    const Phase& ph, const GLint (&viewport)[4]) {
+        const Api& gl = *api_;
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, planes_);  // (the bounds pass reads them too; a scene pass may have unbound them)
-        if (cull_pass && cull_queries_used_ < 2) {  // (the shadow map's pass and the camera's)
-            GLuint& q = cull_queries_[cull_queries_used_++];
-            if (!q) gl.GenQueries(1, &q);
-            gl.BeginQuery(GL_TIME_ELAPSED, q);
-            run_cull_pass(cam, opt, viewport[2], viewport[3]);
-            gl.EndQuery(GL_TIME_ELAPSED);
-            // Read now: the indirect draws wait for the cull pass anyway, and llvmpipe's elapsed
-            // time read after the frame also counted the draws queued behind it.
-            GLuint64 ns = 0;
-            gl.GetQueryObjectui64v(q, GL_QUERY_RESULT, &ns);
-            cull_ms_ += static_cast<double>(ns) * 1e-6;
+        if (cull_pass) {
+            GLuint* q = nullptr;
+            if (cull_queries_used_ < static_cast<int>(std::size(cull_queries_))) {  // (the shadow map's passes and the camera's)
+                q = &cull_queries_[cull_queries_used_++];
+                if (!*q) gl.GenQueries(1, q);
+                gl.BeginQuery(GL_TIME_ELAPSED, *q);
+            }
+            run_cull_pass(cam, opt, viewport[2], viewport[3], ph);
+            if (q) {
+                gl.EndQuery(GL_TIME_ELAPSED);
+                // Read now: the indirect draws wait for the cull pass anyway, and llvmpipe's elapsed
+                // time read after the frame also counted the draws queued behind it.
+                GLuint64 ns = 0;
+                gl.GetQueryObjectui64v(*q, GL_QUERY_RESULT, &ns);
+                cull_ms_ += static_cast<double>(ns) * 1e-6;
+            }
         }
         // The bounding geometry (quads, tetrahedron faces) is a stand-in: the fragment stage
         // computes the depth and keeps only hits in [0, 1]. Without depth clamping GL would clip
@@ -352,15 +447,17 @@ public:
         for (int v = 0; v < render::variant_count; ++v) {
             if (ranges_[v].second == 0) continue;
             const auto variant = static_cast<render::Variant>(v);
+            if (!ph.first() && variant != render::Variant::planes) continue;  // (drawn in the first phase)
             const Program& prog = program(variant, opt.culling, cam.orthographic, deferred, opt.environment != nullptr);
             gl.UseProgram(prog.id());
             set_uniforms(prog, cam, light, opt, viewport[2], viewport[3]);
             set_bound_uniforms(prog, variant, cam, opt);
             gl.Uniform1i(prog.uniform_location("qc_indirect"), cull_pass ? 1 : 0);
             gl.Uniform1i(prog.uniform_location("qc_fetch"), cull_pass && compute_bounds_ ? 1 : 0);
-            // Not the planes variant (a patch may reach out of its bounding sphere inside its quad),
-            // nor the sphere variant, whose cast costs about what the test does (bench spheres: 0.85-0.99x).
-            const bool early = cull_pass && early_discard_ && variant != render::Variant::planes && variant != render::Variant::sphere;
+            // Not the planes variant unless all its patches show only inside their bounding balls
+            // (a bilinear patch may reach out of its ball inside its quad), nor the sphere variant,
+            // whose cast costs about what the test does (bench spheres: 0.85-0.99x).
+            const bool early = cull_pass && early_discard_ && (variant != render::Variant::planes || planes_in_ball_) && variant != render::Variant::sphere;
             gl.Uniform1i(prog.uniform_location("qc_early"), early ? 1 : 0);
             gl.Uniform1i(prog.uniform_location("qc_depth_width"), viewport[2]);
             if (cull_pass)
@@ -374,7 +471,6 @@ public:
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, 0);
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 9, 0);
         gl.BindTextureUnit(4, 0);
-        for (ScenePass* p : passes_) p->draw(cam, light, opt, deferred);
         gl.Disable(GL_DEPTH_CLAMP);
     }
 
@@ -408,7 +504,7 @@ private:
         gl.DispatchCompute(x, (n + x - 1) / x, 1);
     }
 
-    void run_cull_pass(const render::Camera& cam, const render::RenderOptions& opt, int width, int height) {
+    void run_cull_pass(const render::Camera& cam, const render::RenderOptions& opt, int width, int height, const Phase& ph) {
         const Api& gl = *api_;
         const auto w = static_cast<std::uint32_t>(width), h = static_cast<std::uint32_t>(height);
         // Pyramid levels down to 1 x 1, level 0 the viewport.
@@ -417,17 +513,20 @@ private:
             const auto& b = levels.back();
             levels.push_back({b[0] + b[1] * b[2], (b[1] + 1) / 2, (b[2] + 1) / 2});
         }
-        // Earlier frames' and the shadow pass's reads and writes of these buffers are done.
+        // Earlier frames', the shadow pass's and the earlier phases' reads and writes of these
+        // buffers (and of the depth target) are done.
         gl.MemoryBarrier(GL_ALL_BARRIER_BITS);
         const std::size_t texels = levels.back()[0] + 1;
         if (texels > depth_texels_) {  // grown only (the shadow map's pass and the camera's share it)
             upload(depths_, std::vector<std::uint32_t>(texels));
             depth_texels_ = texels;
         }
-        gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, depths_);
-        const std::uint32_t none = 0xffffffffu;
-        gl.ClearBufferData(GL_SHADER_STORAGE_BUFFER, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &none);
-        gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
+        if (ph.first()) {
+            gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, depths_);
+            const std::uint32_t none = 0xffffffffu;
+            gl.ClearBufferData(GL_SHADER_STORAGE_BUFFER, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &none);
+            gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
+        }
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, ssbo_);
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, occluders_);
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, depths_);
@@ -440,7 +539,22 @@ private:
             set_uniforms(p, cam, render::Light{}, render::RenderOptions{}, width, height);
         };
         auto groups = [](std::uint32_t n, std::uint32_t size) { return (n + size - 1) / size; };
-        // 1. Occluders (the variants that have them).
+        const auto runs = [&](int v) { return ranges_[v].second != 0 && (ph.first() || static_cast<render::Variant>(v) == render::Variant::planes); };
+        if (!ph.first()) {
+            // 1'. A later phase: what the earlier phases drew, from the depth target, into level 0
+            // (over the occluders' disks and the earlier phases' values).
+            const Program& dp = programs_.get(render::OcclusionKey{render::OcclusionPass::depth_image});
+            gl.UseProgram(dp.id());
+            gl.BindTextureUnit(5, ph.depth_target);
+            gl.Uniform1i(dp.uniform_location("qc_depth_buffer"), 5);
+            gl.Uniform2ui(dp.uniform_location("qc_size"), w, h);
+            const float pz[4] = {cam.projection[2][2], cam.projection[3][2], cam.projection[2][3], cam.projection[3][3]};
+            gl.Uniform4fv(dp.uniform_location("qc_pz"), 1, pz);
+            gl.DispatchCompute(groups(w, 8), groups(h, 8), 1);
+            gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+            gl.BindTextureUnit(5, 0);
+        }
+        // 1. Occluders (the variants that have them), in the first phase.
         const Program& occ = programs_.get(render::OcclusionKey{render::OcclusionPass::occluders});
         common(occ);
         gl.Uniform3f(occ.uniform_location("qc_occluder_range"), range.near, range.far, range.gap);
@@ -450,7 +564,7 @@ private:
         gl.Uniform1ui(occ.uniform_location("qc_max_pixels"), 1u << 18);
         for (render::Variant v : {render::Variant::sphere, render::Variant::ellipsoid, render::Variant::slab}) {
             const auto& r = ranges_[static_cast<int>(v)];
-            if (r.second == 0) continue;
+            if (r.second == 0 || !ph.first()) continue;
             gl.Uniform1ui(occ.uniform_location("qc_first"), r.first);
             gl.Uniform1ui(occ.uniform_location("qc_count"), r.second);
             dispatch_rows(gl, groups(r.second, 64));
@@ -465,14 +579,17 @@ private:
             gl.DispatchCompute(groups(levels[l][1], 8), groups(levels[l][2], 8), 1);
             gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
         }
-        // 3. The cull pass, from zeroed commands.
+        // 3. The cull pass, from zeroed commands (and, in the first phase, zeroed counts).
         std::uint32_t cmds[5 * render::variant_count + 2] = {};  // the commands, then the counts of culled primitives
         for (int v = 0; v < render::variant_count; ++v) {
             cmds[5 * v + 1] = 1;
             cmds[5 * v + 3] = 4 * ranges_[v].first;
         }
         gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, commands_);
-        gl.BufferData(GL_SHADER_STORAGE_BUFFER, sizeof cmds, cmds, GL_DYNAMIC_DRAW);
+        if (ph.first())
+            gl.BufferData(GL_SHADER_STORAGE_BUFFER, sizeof cmds, cmds, GL_DYNAMIC_DRAW);
+        else
+            gl.BufferSubData(GL_SHADER_STORAGE_BUFFER, 0, 5 * render::variant_count * sizeof(std::uint32_t), cmds);
         gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
         // Each variant's workgroup counts at its own offset (16-uint aligned for BindBufferRange).
         std::uint32_t group_base[render::variant_count] = {};
@@ -495,13 +612,19 @@ private:
         gl.Uniform3uiv(cull.uniform_location("qc_levels"), level_count, lv.data());
         gl.Uniform1i(cull.uniform_location("qc_level_count"), level_count);
         for (int v = 0; v < render::variant_count; ++v) {
-            if (ranges_[v].second == 0) continue;
+            if (!runs(v)) continue;
+            const bool planes = static_cast<render::Variant>(v) == render::Variant::planes;
             gl.Uniform1ui(cull.uniform_location("qc_first"), ranges_[v].first);
             gl.Uniform1ui(cull.uniform_location("qc_count"), ranges_[v].second);
             gl.Uniform1i(cull.uniform_location("qc_bound"), static_cast<int>(render::rect_bound(static_cast<render::Variant>(v))));
-            // The planes variant is not clipped to its bounding sphere (a patch may reach out of
-            // it inside its quad): no nearest distance, frustum culling only.
-            gl.Uniform1i(cull.uniform_location("qc_occlusion"), static_cast<render::Variant>(v) == render::Variant::planes ? 0 : 1);
+            // The planes variant may not lie in its bounding sphere (a bilinear patch may reach out
+            // of it inside its quad): no nearest distance, frustum culling only, unless all its
+            // primitives show only inside their balls.
+            gl.Uniform1i(cull.uniform_location("qc_occlusion"), planes && !planes_in_ball_ ? 0 : 1);
+            gl.Uniform1i(cull.uniform_location("qc_windowed"), planes && ph.count > 1 ? 1 : 0);
+            gl.Uniform2f(cull.uniform_location("qc_window"), ph.lo, ph.hi);
+            gl.Uniform1i(cull.uniform_location("qc_window_first"), ph.first() ? 1 : 0);
+            gl.Uniform1i(cull.uniform_location("qc_window_last"), ph.last() ? 1 : 0);
             gl.BindBufferRange(GL_SHADER_STORAGE_BUFFER, 7, groups_, static_cast<GLintptr>(group_base[v] * sizeof(std::uint32_t)),
                                static_cast<GLsizeiptr>(groups(ranges_[v].second, 64) * sizeof(std::uint32_t)));
             dispatch_rows(gl, groups(ranges_[v].second, 64));
@@ -524,7 +647,7 @@ private:
             gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 9, nearests_);
         }
         for (int v = 0; v < render::variant_count; ++v) {
-            if (ranges_[v].second == 0) continue;
+            if (!runs(v)) continue;
             const GLintptr at = static_cast<GLintptr>(group_base[v] * sizeof(std::uint32_t));
             const GLsizeiptr size = static_cast<GLsizeiptr>(groups(ranges_[v].second, 64) * sizeof(std::uint32_t));
             gl.BindBufferRange(GL_SHADER_STORAGE_BUFFER, 7, groups_, at, size);
@@ -543,7 +666,7 @@ private:
         if (compute_bounds_) {
             gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
             for (int v = 0; v < render::variant_count; ++v) {
-                if (ranges_[v].second == 0) continue;
+                if (!runs(v)) continue;
                 const auto variant = static_cast<render::Variant>(v);
                 const Program& bounds = programs_.get(
                     render::OcclusionKey{render::OcclusionPass::bounds, render::fragment_shape(variant) == render::FragmentShape::sphere, cam.orthographic});
@@ -737,8 +860,11 @@ private:
     GLuint corners_ = 0, nearests_ = 0;  ///< per slot of the visible list: 4 clip positions, the nearest distance
     std::size_t bounds_capacity_ = 0;    ///< slots corners_ and nearests_ hold
     std::uint32_t group_capacity_ = 0;
-    GLuint cull_queries_[2] = {0, 0};
+    GLuint cull_queries_[16] = {};     ///< GL_TIME_ELAPSED of the cull passes of a frame (the shadow map's and the camera's phases)
     int cull_queries_used_ = 0;
+    bool planes_in_ball_ = false;      ///< every planes primitive shows only inside its bounding ball (`planes_within_ball`)
+    std::vector<std::array<float, 4>> phase_sample_;  ///< centres and radii of at most ~4096 planes primitives (`phase_cuts`)
+    std::size_t earlier_phases_drawn_ = 0;  ///< primitives drawn by the phases before the last of the last `draw_primitives`
     double cull_ms_ = 0.0;  ///< GPU time of the last draw's cull passes (GL_TIME_ELAPSED)
     std::size_t depth_texels_ = 0, drawn_ = 0, frustum_culled_ = 0, occluded_ = 0;
     std::shared_ptr<const render::EnvironmentMap> env_;  ///< the map in etex_

@@ -502,6 +502,34 @@ Stage occluder_shader() {
     return s;
 }
 
+/// Occlusion pass 1 of a later phase of phased drawing: each pixel of the depth image takes the
+/// view distance of what the depth buffer now holds there (`depth_distance`, no nearer than it)
+/// where that is nearer than its value; the background and what lies at the far plane leave it.
+/// What is drawn later can only bring a pixel nearer, so the value stays conservative.
+Stage depth_image_shader() {
+    Stage s;
+    std::ostringstream fns;
+    add_kernel(s, fns, "depth_distance");
+    std::ostringstream m;
+    m << "layout(local_size_x = 8, local_size_y = 8) in;\n\n"
+         "layout(std430, binding = 3) buffer qc_Depths { uint qc_depth[]; };\n"
+         "uniform sampler2D qc_depth_buffer;  // the bound framebuffer's depth target (window depths)\n"
+         "uniform uvec2 qc_size;              // the viewport, level 0 of the depth image\n"
+         "uniform vec4 qc_pz;                 // P22, P32, P23, P33 of the projection\n\n"
+      << fns.str()
+      << "void main()\n{\n"
+         "    uvec2 t = gl_GlobalInvocationID.xy;\n"
+         "    if (t.x >= qc_size.x || t.y >= qc_size.y) return;\n"
+         "    float s;\n    bool far;\n"
+         "    qc_depth_distance(texelFetch(qc_depth_buffer, ivec2(t), 0).r, qc_pz, s, far);\n"
+         "    if (far || !(s > 0.0)) return;\n"
+         "    uint at = t.y * qc_size.x + t.x;\n"
+         "    qc_depth[at] = min(qc_depth[at], floatBitsToUint(s));\n"
+         "}\n";
+    s.text = m.str();
+    return s;
+}
+
 /// Occlusion pass 2: one level of the max-depth pyramid, each texel the largest of the (up to)
 /// 2 x 2 texels below it (no arithmetic on depths).
 const char* pyramid_shader =
@@ -541,12 +569,20 @@ Stage cull_shader() {
          "uniform uint qc_stats_at;    // the counts of primitives culled outside the frustum and behind occluders (uint offset)\n"
          "uniform bool qc_occlusion;   // test against the pyramid (else only the frustum)\n"
          "uniform uvec3 qc_levels[16]; // offset, width, height of each pyramid level\n"
-         "uniform int qc_level_count;\n\n"
+         "uniform int qc_level_count;\n"
+         "// Phased drawing: this pass keeps only the records whose nearest view distance lies in the\n"
+         "// phase's window [lo, hi) (the first phase from -infinity, NaN included; the last to +infinity).\n"
+         "uniform bool qc_windowed;\nuniform vec2 qc_window;\nuniform bool qc_window_first, qc_window_last;\n\n"
       << fns.str()
       << "bool qc_kept(uint prim)\n{\n"
          "    qc_Primitive p = qc_prims[prim];\n"
          "    mat4 q = qc_record_quadric(p);\n"
          "    vec3 c = qc_record_center(p);\n"
+         "    if (qc_windowed) {\n"
+         "        float key;\n"
+         "        qc_nearest_distance(qc_vz_row, qc_vz_t, c, qc_record_radius(p), key);\n"
+         "        if (!((qc_window_first || key >= qc_window.x) && (qc_window_last || !(key >= qc_window.y)))) return false;  // another phase's\n"
+         "    }\n"
          "    vec2 lo, hi;\n    bool tight, visible;\n"
          "    if (qc_bound == 1)\n"
          "        qc_primitive_rect_ellipsoid(qc_view_projection, q, c, qc_record_radius(p), qc_record_axis(p), qc_record_half_length(p), qc_viewport, lo, hi, tight, visible);\n"
@@ -702,6 +738,9 @@ StageText occlusion_stage(const render::OcclusionKey& k) {
     switch (k.pass) {
     case render::OcclusionPass::occluders:
         return stage_text(StageText::Kind::compute, "qc_occluders.comp", occluder_shader(), "occlusion culling: occluder disks into the depth image");
+    case render::OcclusionPass::depth_image:
+        return stage_text(StageText::Kind::compute, "qc_depth_image.comp", depth_image_shader(),
+                          "occlusion culling, later phases: the depth buffer's view distances into the depth image");
     case render::OcclusionPass::pyramid: {
         Stage p;
         p.text = pyramid_shader;

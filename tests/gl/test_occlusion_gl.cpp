@@ -5,8 +5,12 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <random>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "quadcast/gl/osmesa_context.hpp"
 #include "quadcast/gl/quadric_renderer.hpp"
@@ -310,4 +314,102 @@ TEST_CASE("occluder balls lie inside their solids") {
     for (int j = 0; j < 4; ++j)
         for (int i = 0; i < 4; ++i) flipped.shape.q.q[j][i] = -flipped.shape.q.q[j][i];
     CHECK(quadcast::render::occluder_radius(flipped) == 0.0f);
+}
+
+TEST_CASE("tetrahedral pieces lie in their bounding balls; bilinear quads need not") {
+    // Every piece of a tetrahedral mesh (shapes::quadric clipped to a tetrahedron, any shape of
+    // tetrahedron): the region its clip test accepts lies in its ball, so occlusion culling and
+    // phased drawing may use the ball's nearest distance.
+    std::mt19937 rng(21);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    int pieces = 0;
+    for (int i = 0; i < 2000; ++i) {
+        glm::dvec3 p[4];
+        for (auto& c : p) c = glm::dvec3(u(rng), u(rng), u(rng)) * (i % 3 == 0 ? 50.0 : 1.0) + glm::dvec3(i % 5 == 0 ? 300.0 : 0.0);
+        const double vol6 = std::fabs(glm::dot(p[1] - p[0], glm::cross(p[2] - p[0], p[3] - p[0])));
+        double longest = 0;
+        for (int a = 0; a < 4; ++a)
+            for (int b = a + 1; b < 4; ++b) longest = std::max(longest, glm::length(p[a] - p[b]));
+        if (!(vol6 > 1e-3 * longest * longest * longest)) continue;
+        glm::dmat4 q(0.0);
+        q[0][0] = q[1][1] = q[2][2] = 1.0;
+        q[3][3] = -1.0;
+        const Primitive prim = shapes::quadric(q, shapes::TetrahedronBound{{glm::vec3(p[0]), glm::vec3(p[1]), glm::vec3(p[2]), glm::vec3(p[3])}});
+        Vec4<double> pl[4];
+        for (int k = 0; k < 4; ++k) pl[k] = cast<double>(prim.shape.planes[k]);
+        CAPTURE(i);
+        CHECK(quadcast::planes_within_ball(pl, double(prim.shape.radius)));
+        ++pieces;
+    }
+    CHECK(pieces > 500);
+    // A twisted quad's planes (its director planes in parallel pairs) bound no tetrahedron.
+    const Primitive quad = shapes::quad(glm::vec3(0, 0, 0), glm::vec3(1, 0, 0.3f), glm::vec3(1, 1, 0), glm::vec3(0, 1, 0.4f));
+    Vec4<double> pl[4];
+    for (int k = 0; k < 4; ++k) pl[k] = cast<double>(quad.shape.planes[k]);
+    CHECK_FALSE(quadcast::planes_within_ball(pl, double(quad.shape.radius)));
+}
+
+TEST_CASE("phased drawing of tetrahedral pieces culls what earlier phases hide and changes no depth") {
+    // Three nested spheres made of tetrahedral pieces (over 4096 of them): the inner two are
+    // hidden from outside. Drawn in 1 and in 3 phases (RenderOptions::occlusion_phases) from
+    // outside in perspective, from between the shells, orthographically, and with shadows and
+    // outlines: the same coverage and depths; colours may differ only where two pieces meet at
+    // exactly the same depth (which one wins a tie depends on the order they are drawn in).
+    gl::OsmesaContext ctx;
+    gl::QuadricRenderer r(ctx.api());
+    const int w = 320, h = 240;
+    const double aspect = double(w) / h;
+    std::vector<Primitive> prims;
+    const double radii[3] = {0.45, 0.7, 0.95};
+    const glm::vec3 colors[3] = {{0.9f, 0.3f, 0.2f}, {0.2f, 0.8f, 0.3f}, {0.3f, 0.4f, 0.9f}};
+    for (int s = 0; s < 3; ++s) {
+        const std::vector<Primitive> shell = tetrahedral_pieces({1, 1, 1}, -radii[s] * radii[s], 12, 1.0, colors[s]);
+        prims.insert(prims.end(), shell.begin(), shell.end());
+    }
+    REQUIRE(prims.size() >= 4096);
+    r.set_primitives(prims);
+    Light light;
+    light.direction = vec3(-0.4f, -0.6f, -1.0f);
+    using qc_render_test::look_at;
+    const std::vector<std::pair<std::string, Camera>> cams = {
+        {"outside", look_at(vec3(0.6, 0.9, 3.2), vec3(0.0, 0.0, 0.0), vec3(0.0, 1.0, 0.0), qc_render_test::perspective(40, aspect, 0.5, 10))},
+        {"between the shells", look_at(vec3(0.1, 0.2, 0.82), vec3(0.0, 0.0, 0.0), vec3(0.0, 1.0, 0.0), qc_render_test::perspective(80, aspect, 0.02, 10))},
+        {"orthographic", look_at(vec3(0.3, 0.2, 4.0), vec3(0.0, 0.0, 0.0), vec3(0.0, 1.0, 0.0),
+                                 qc_render_test::orthographic(-1.3 * aspect, 1.3 * aspect, -1.3, 1.3, 1, 8), true)},
+    };
+    for (const auto& [name, cam] : cams)
+        for (int mode = 0; mode < 2; ++mode) {
+            RenderOptions o;
+            o.width = w;
+            o.height = h;
+            o.culling = false;  // (isosurface pieces: render::isosurface_culling_note)
+            o.shadows = o.silhouettes = mode == 1;
+            o.occlusion_phases = 1;
+            r.draw(cam, light, o);
+            const Image one = r.read();
+            const std::size_t drawn_one = r.drawn_primitives();
+            o.occlusion_phases = 3;
+            r.draw(cam, light, o);
+            const Image three = r.read();
+            const std::size_t drawn_three = r.drawn_primitives();
+            o.occlusion_culling = false;
+            r.draw(cam, light, o);
+            const Image all = r.read();
+            const ImageDiff d = image_diff(three, one), d_all = image_diff(three, all);
+            std::printf("[phases] %s%s: %ld covered px, %ld coverage / %ld colour / %ld depth differences (against no culling: %ld / %ld / %ld); "
+                        "%zu of %zu pieces drawn in 1 phase, %zu in 3\n",
+                        name.c_str(), mode ? ", shadows + outlines" : "", d.covered, d.coverage_diff, d.color_diff, d.depth_diff, d_all.coverage_diff,
+                        d_all.color_diff, d_all.depth_diff, drawn_one, prims.size(), drawn_three);
+            CAPTURE(name);
+            CAPTURE(mode);
+            CHECK(d.covered > 5000);
+            CHECK(d.coverage_diff == 0);
+            CHECK(d.depth_diff == 0);
+            CHECK(d_all.coverage_diff == 0);
+            CHECK(d_all.depth_diff == 0);
+            CHECK(d.color_diff * 1000 <= d.covered);  // ties only
+            CHECK(d_all.color_diff * 1000 <= d_all.covered);
+            if (name == "outside") CHECK(drawn_three * 10 < drawn_one * 7);  // the inner shells culled
+            if (name == "orthographic") CHECK(drawn_three * 10 < drawn_one * 9);
+        }
 }

@@ -604,3 +604,15 @@ TEST_CASE("JsonDocument hands the elements of the streamed array over one by one
     CHECK(calls == 0);
     CHECK(other.root().at("objects").json().is_object());
 }
+
+TEST_CASE("options.occlusion_phases takes an integer from 1 to 8") {
+    CHECK(parse(R"({"objects": []})").options.occlusion_phases == 3);
+    CHECK(parse(R"({"objects": [], "options": {"occlusion_phases": 1}})").options.occlusion_phases == 1);
+    CHECK(parse(R"({"objects": [], "options": {"occlusion_phases": 8}})").options.occlusion_phases == 8);
+    for (const char* bad : {R"({"objects": [], "options": {"occlusion_phases": 0}})", R"({"objects": [], "options": {"occlusion_phases": 9}})",
+                            R"({"objects": [], "options": {"occlusion_phases": 2.5}})", R"({"objects": [], "options": {"occlusion_phases": "3"}})"}) {
+        const ParseError e = error_of(bad);
+        CAPTURE(bad);
+        CHECK(std::string(e.what()).find("/options/occlusion_phases") != std::string::npos);
+    }
+}

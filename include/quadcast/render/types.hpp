@@ -96,6 +96,14 @@ struct RenderOptions {
     /// behind the conservative occluders of closed convex primitives (quadcast/occlusion.hpp).
     /// The picture is the same either way; the CPU reference does not need it.
     bool occlusion_culling = true;
+    /// GL, with occlusion_culling: primitives clipped to four planes (tetrahedral pieces: skins,
+    /// quadratic finite elements, isosurfaces as quadrics) are drawn in this many phases (1-8) by
+    /// the nearest view distance of their bounding balls, nearest first, when each shows only
+    /// inside its ball (`quadcast::planes_within_ball`; bilinear quads do not) and there are at
+    /// least 4096 of them; the cull pass of each later phase takes the depth buffer the earlier
+    /// phases wrote into its depth image, so that pieces and fragments behind what is drawn are
+    /// skipped. 1: one phase, against the other variants' occluders only. The same picture.
+    int occlusion_phases = 3;
     Vec3<float> background{{1.0f, 1.0f, 1.0f}};
     /// Ambient and diffuse weights of every primitive's shading ([2], [3]: the specular and
     /// shininess of geometry without a Material of its own, e.g. meshes).

@@ -121,8 +121,9 @@ struct DeferredKey {
 /// the compaction of the kept records into the visible list, or (`bounds`, optional) for each
 /// slot of the visible list what the vertex stage would compute per primitive (the clip positions
 /// of its four corners and its nearest view distance, for the sphere-specialised vertex stage or
-/// the general one, per camera), so that the vertex stage only fetches.
-enum class OcclusionPass : std::uint8_t { occluders, pyramid, cull, scan, compact, bounds };
+/// the general one, per camera), so that the vertex stage only fetches; or (`depth_image`, later
+/// phases of phased drawing) the depth buffer's view distances into the depth image.
+enum class OcclusionPass : std::uint8_t { occluders, pyramid, cull, scan, compact, bounds, depth_image };
 struct OcclusionKey {
     OcclusionPass pass = OcclusionPass::occluders;
     bool sphere = false;  ///< `bounds`: of the sphere-specialised vertex stage
@@ -175,7 +176,7 @@ inline std::string key_name(const IsoKey& k) {
 }
 
 inline std::string key_name(const OcclusionKey& k) {
-    const char* pass = k.pass == OcclusionPass::occluders ? "occluders" : k.pass == OcclusionPass::pyramid ? "pyramid" : k.pass == OcclusionPass::cull ? "cull" : k.pass == OcclusionPass::scan ? "scan" : k.pass == OcclusionPass::compact ? "compact" : "bounds";
+    const char* pass = k.pass == OcclusionPass::occluders ? "occluders" : k.pass == OcclusionPass::pyramid ? "pyramid" : k.pass == OcclusionPass::cull ? "cull" : k.pass == OcclusionPass::scan ? "scan" : k.pass == OcclusionPass::compact ? "compact" : k.pass == OcclusionPass::depth_image ? "depth_image" : "bounds";
     if (k.pass != OcclusionPass::bounds) return std::string("occlusion:") + pass;
     return std::string("occlusion:") + pass + (k.sphere ? ":sphere" : ":quadric") + (k.ortho ? ":ortho" : ":perspective");
 }
@@ -198,7 +199,8 @@ inline std::vector<SlimKey> all_slim_keys() {
 
 /// Every occlusion key a renderer can ask for.
 inline std::vector<OcclusionKey> all_occlusion_keys() {
-    std::vector<OcclusionKey> out{{OcclusionPass::occluders}, {OcclusionPass::pyramid}, {OcclusionPass::cull}, {OcclusionPass::scan}, {OcclusionPass::compact}};
+    std::vector<OcclusionKey> out{{OcclusionPass::occluders}, {OcclusionPass::pyramid}, {OcclusionPass::cull}, {OcclusionPass::scan}, {OcclusionPass::compact},
+                                  {OcclusionPass::depth_image}};
     for (bool sphere : {false, true})
         for (bool ortho : {false, true}) out.push_back({OcclusionPass::bounds, sphere, ortho});
     return out;

@@ -145,6 +145,8 @@ struct Options {
     bool tight_bounds = true;
     /// "occlusion_culling": the GL renderer's cull pass (RenderOptions::occlusion_culling).
     bool occlusion_culling = true;
+    /// "occlusion_phases": phased drawing of tetrahedral pieces (RenderOptions::occlusion_phases), 1-8.
+    int occlusion_phases = 3;
     bool deferred = false;
     bool shadows = false;
     bool silhouettes = false;
