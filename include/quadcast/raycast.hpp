@@ -177,9 +177,29 @@ Candidate<T> nearer(const Candidate<T>& a, const Candidate<T>& b) {
 /// The nearest candidate wins. Normal of a quadric hit: A x + b = g + lambda a (eq. 11).
 /// Numerics: see the functions named; the cap parameter is (s h - dot(axis, o)) / dot(axis, v).
 template <CastOptions Opt, class T>
-CastHit<T> cast_ray(const ClippedQuadric<T>& p, const LocalRay<T>& r) {
+CastHit<T> cast_ray(const ClippedQuadric<T>& p, const LocalRay<T>& r_eye) {
     using namespace raycast_detail;
     const T r2 = p.radius * p.radius;
+    // planes: the ray starts where it enters the sphere of twice the bounding radius, at ray
+    // parameter t0, with g = A o + b taken afresh there. From the eye, hundreds of radii away
+    // for a small piece, f(o) and the re-origined discriminant carry errors of order eps |o|^2
+    // that move the root by up to 1e-4 of the piece's size, and a hit near a face it does not
+    // continue across falls outside the clip test's slack (pinholes through finite-element and
+    // isosurface pieces seen from afar). What the clip accepts lies in the bounding sphere
+    // (tetrahedra: `planes_within_ball`; a bilinear patch in its corners' hull); the doubled
+    // radius leaves room for rounding and costs nothing in accuracy.
+    // Numerics: vv = v.v; t0 = (-(o.v) - (2 radius) sqrt(vv)) / vv where vv > 0 and that is
+    // positive, else 0; o' = o + t0 v; g' = A o' + b (left folds).
+    LocalRay<T> r = r_eye;
+    T t0{};
+    if constexpr (Opt.planes) {
+        const T vv = dot(r_eye.v, r_eye.v);
+        const mask_t<T> moving = vv > T(0);
+        const T entry = (-dot(r_eye.o, r_eye.v) - (p.radius * T(2)) * sqrt(vv)) / select(moving, vv, T(1));
+        t0 = select(moving && (entry > T(0)), entry, T(0));
+        r.o = r_eye.o + t0 * r_eye.v;
+        r.g = upper3(p.q.q) * r.o + xyz(p.q.q[3]);
+    }
     const RayQuadratic<T> rq = [&] {
         if constexpr (Opt.sphere) return ray_quadratic_sphere(r2, r.o, r.v);
         else return ray_quadratic_incremental(p.q, r.o, r.v, r.g, r.a);
@@ -233,7 +253,8 @@ CastHit<T> cast_ray(const ClippedQuadric<T>& p, const LocalRay<T>& r) {
             best = nearer(best, Candidate<T>{ok, lambda, sign * p.axis});
         }
     }
-    return {best.ok, best.lambda, r.o + best.lambda * r.v, best.normal};
+    if constexpr (Opt.planes) return {best.ok, t0 + best.lambda, r.o + best.lambda * r.v, best.normal};
+    else return {best.ok, best.lambda, r.o + best.lambda * r.v, best.normal};
 }
 
 /// Window depth of the point at ray parameter lambda, for a ray whose origin lies in the
