@@ -64,6 +64,11 @@ std::array<float, 12> near_corners(const render::Camera& cam) {
     return r;
 }
 
+/// P22, P32, P23, P33 of the camera's projection (uniform qc_pz: view z -> window depth).
+std::array<float, 4> projection_pz(const render::Camera& cam) {
+    return {cam.projection[2][2], cam.projection[3][2], cam.projection[2][3], cam.projection[3][3]};
+}
+
 void set_camera_uniforms(const Api& gl, const Program& p, const render::Camera& cam, int width, int height) {
     float view[16], proj[16], rot_inv[9];
     for (int j = 0; j < 4; ++j)
@@ -72,7 +77,7 @@ void set_camera_uniforms(const Api& gl, const Program& p, const render::Camera& 
     for (int j = 0; j < 3; ++j)
         for (int i = 0; i < 3; ++i) rot_inv[j * 3 + i] = cam.view[i][j];
     const float vz_row[3] = {cam.view[0][2], cam.view[1][2], cam.view[2][2]};
-    const float pz[4] = {cam.projection[2][2], cam.projection[3][2], cam.projection[2][3], cam.projection[3][3]};
+    const std::array<float, 4> pz = projection_pz(cam);
     const auto near = near_corners(cam);
     gl.UniformMatrix4fv(p.uniform_location("qc_view"), 1, GL_FALSE, view);
     gl.UniformMatrix4fv(p.uniform_location("qc_projection"), 1, GL_FALSE, proj);
@@ -89,7 +94,7 @@ void set_camera_uniforms(const Api& gl, const Program& p, const render::Camera& 
     gl.Uniform3fv(p.uniform_location("qc_near_corners"), 4, near.data());
     gl.Uniform3fv(p.uniform_location("qc_vz_row"), 1, vz_row);
     gl.Uniform1f(p.uniform_location("qc_vz_t"), cam.view[3][2]);
-    gl.Uniform4fv(p.uniform_location("qc_pz"), 1, pz);
+    gl.Uniform4fv(p.uniform_location("qc_pz"), 1, pz.data());
 }
 
 }  // namespace detail
@@ -312,15 +317,10 @@ public:
         gl.Finish();
         check_errors(gl, "QuadricRenderer::draw");
         if (opt.occlusion_culling && count_ > 0) {
-            // The primitives the cull pass kept: the index counts of the indirect commands.
-            std::uint32_t cmds[5 * render::variant_count + 2];
-            gl.BindBuffer(GL_DRAW_INDIRECT_BUFFER, commands_);
-            gl.GetBufferSubData(GL_DRAW_INDIRECT_BUFFER, 0, sizeof cmds, cmds);
-            gl.BindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
-            drawn_ = earlier_phases_drawn_;  // (phased drawing: the phases before the last)
-            for (int v = 0; v < render::variant_count; ++v) drawn_ += cmds[5 * v] / 6;
-            frustum_culled_ = cmds[5 * render::variant_count];
-            occluded_ = cmds[5 * render::variant_count + 1];
+            const auto cmds = read_commands();
+            drawn_ = earlier_phases_drawn_ + cmds[5 * render::variant_count];  // (phased drawing: and the phases before the last)
+            frustum_culled_ = cmds[5 * render::variant_count + 1];
+            occluded_ = cmds[5 * render::variant_count + 2];
         } else {
             drawn_ = count_;
             frustum_culled_ = occluded_ = 0;
@@ -332,8 +332,20 @@ public:
     double cull_pass_ms() const { return cull_ms_; }
     std::size_t occluded() const { return occluded_; }
 
-    /// Draws every variant's primitives with the forward or geometry-buffer programs into the
-    /// bound framebuffer, then the other passes (`add_pass`).
+    /// The cull pass's indirect commands as read back (waits for it), then the primitives they
+    /// draw (6 indices each), then the counts of primitives culled outside the view and behind
+    /// occluders.
+    std::array<std::uint32_t, 5 * render::variant_count + 3> read_commands() const {
+        std::array<std::uint32_t, 5 * render::variant_count + 3> out{};
+        api_->BindBuffer(GL_DRAW_INDIRECT_BUFFER, commands_);
+        api_->GetBufferSubData(GL_DRAW_INDIRECT_BUFFER, 0, 5 * render::variant_count * sizeof(std::uint32_t), out.data());
+        api_->GetBufferSubData(GL_DRAW_INDIRECT_BUFFER, 5 * render::variant_count * sizeof(std::uint32_t), 2 * sizeof(std::uint32_t),
+                               out.data() + 5 * render::variant_count + 1);
+        api_->BindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
+        for (int v = 0; v < render::variant_count; ++v) out[5 * render::variant_count] += out[static_cast<std::size_t>(5 * v)] / 6;
+        return out;
+    }
+
     /// The cuts between the phases of phased drawing: quantiles of the sampled planes primitives'
     /// nearest view distances (`nearest_distance`), phase k ending at (2^(k+1) - 1) / (2^n - 1)
     /// of them (a small first phase of the nearest, then ever larger ones).
@@ -367,11 +379,14 @@ public:
         bool last() const { return index + 1 == count; }
     };
 
+    /// Draws every variant's primitives with the forward or geometry-buffer programs into the
+    /// bound framebuffer, then the other passes (`add_pass`).
     /// With `cull_pass` and a depth target, the planes primitives, when all show only inside their
     /// bounding balls (`planes_within_ball`) and there are at least 4096 of them, are drawn in
-    /// RenderOptions::occlusion_phases phases by nearest view distance (`phase_cuts`); after each, the cull pass of the
-    /// next takes the depth buffer into its depth image (OcclusionPass::depth_image), so what the
-    /// earlier phases drew hides what lies behind it. The other variants draw in the first phase.
+    /// RenderOptions::occlusion_phases phases by nearest view distance (`phase_cuts`); after
+    /// each, the cull pass of the next takes the depth buffer into its depth image
+    /// (OcclusionPass::depth_image), so what the earlier phases drew hides what lies behind it.
+    /// The other variants draw in the first phase.
     void draw_primitives(const render::Camera& cam, const render::Light& light, const render::RenderOptions& opt, bool deferred, bool cull_pass = false,
                          GLuint depth_target = 0) {
         const Api& gl = *api_;
@@ -392,13 +407,7 @@ public:
             ph.hi = k + 1 < phase_count ? cuts[static_cast<std::size_t>(k)] : 0.0f;
             ph.depth_target = depth_target;
             draw_phase(cam, light, opt, deferred, cull_pass, ph, viewport);
-            if (!ph.last()) {  // the drawn primitives of this phase (the last one's: `draw`)
-                std::uint32_t cmds[5 * render::variant_count];
-                gl.BindBuffer(GL_DRAW_INDIRECT_BUFFER, commands_);
-                gl.GetBufferSubData(GL_DRAW_INDIRECT_BUFFER, 0, sizeof cmds, cmds);
-                gl.BindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
-                for (int v = 0; v < render::variant_count; ++v) earlier_phases_drawn_ += cmds[5 * v] / 6;
-            }
+            if (!ph.last()) earlier_phases_drawn_ += read_commands()[5 * render::variant_count];  // (the last phase's: `draw`)
         }
         gl.Enable(GL_DEPTH_CLAMP);  // (as for the primitives)
         for (ScenePass* p : passes_) p->draw(cam, light, opt, deferred);
@@ -545,29 +554,30 @@ private:
             // (over the occluders' disks and the earlier phases' values).
             const Program& dp = programs_.get(render::OcclusionKey{render::OcclusionPass::depth_image});
             gl.UseProgram(dp.id());
+            detail::set_camera_uniforms(gl, dp, cam, width, height);  // (qc_pz)
             gl.BindTextureUnit(5, ph.depth_target);
             gl.Uniform1i(dp.uniform_location("qc_depth_buffer"), 5);
             gl.Uniform2ui(dp.uniform_location("qc_size"), w, h);
-            const float pz[4] = {cam.projection[2][2], cam.projection[3][2], cam.projection[2][3], cam.projection[3][3]};
-            gl.Uniform4fv(dp.uniform_location("qc_pz"), 1, pz);
             gl.DispatchCompute(groups(w, 8), groups(h, 8), 1);
             gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
             gl.BindTextureUnit(5, 0);
         }
         // 1. Occluders (the variants that have them), in the first phase.
-        const Program& occ = programs_.get(render::OcclusionKey{render::OcclusionPass::occluders});
-        common(occ);
-        gl.Uniform3f(occ.uniform_location("qc_occluder_range"), range.near, range.far, range.gap);
-        const float right[3] = {cam.view[0][0], cam.view[1][0], cam.view[2][0]}, up[3] = {cam.view[0][1], cam.view[1][1], cam.view[2][1]};
-        gl.Uniform3fv(occ.uniform_location("qc_right"), 1, right);
-        gl.Uniform3fv(occ.uniform_location("qc_up"), 1, up);
-        gl.Uniform1ui(occ.uniform_location("qc_max_pixels"), 1u << 18);
-        for (render::Variant v : {render::Variant::sphere, render::Variant::ellipsoid, render::Variant::slab}) {
-            const auto& r = ranges_[static_cast<int>(v)];
-            if (r.second == 0 || !ph.first()) continue;
-            gl.Uniform1ui(occ.uniform_location("qc_first"), r.first);
-            gl.Uniform1ui(occ.uniform_location("qc_count"), r.second);
-            dispatch_rows(gl, groups(r.second, 64));
+        if (ph.first()) {
+            const Program& occ = programs_.get(render::OcclusionKey{render::OcclusionPass::occluders});
+            common(occ);
+            gl.Uniform3f(occ.uniform_location("qc_occluder_range"), range.near, range.far, range.gap);
+            const float right[3] = {cam.view[0][0], cam.view[1][0], cam.view[2][0]}, up[3] = {cam.view[0][1], cam.view[1][1], cam.view[2][1]};
+            gl.Uniform3fv(occ.uniform_location("qc_right"), 1, right);
+            gl.Uniform3fv(occ.uniform_location("qc_up"), 1, up);
+            gl.Uniform1ui(occ.uniform_location("qc_max_pixels"), 1u << 18);
+            for (render::Variant v : {render::Variant::sphere, render::Variant::ellipsoid, render::Variant::slab}) {
+                const auto& r = ranges_[static_cast<int>(v)];
+                if (r.second == 0) continue;
+                gl.Uniform1ui(occ.uniform_location("qc_first"), r.first);
+                gl.Uniform1ui(occ.uniform_location("qc_count"), r.second);
+                dispatch_rows(gl, groups(r.second, 64));
+            }
         }
         gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
         // 2. The max-depth pyramid.
@@ -709,12 +719,12 @@ private:
         gl.Disable(GL_DEPTH_TEST);
         gl.UseProgram(prog.id());
         for (int i = 0; i < 3; ++i) gl.BindTextureUnit(static_cast<GLuint>(i), gtex_[i]);
-        const float pz[4] = {cam.projection[2][2], cam.projection[3][2], cam.projection[2][3], cam.projection[3][3]};
+        const std::array<float, 4> pz = detail::projection_pz(cam);
         gl.Uniform3fv(prog.uniform_location("qc_light_dir"), 1, light.direction.c);
         gl.Uniform3fv(prog.uniform_location("qc_light_color"), 1, light.color.c);
         gl.Uniform4fv(prog.uniform_location("qc_material"), 1, opt.material.c);
         gl.Uniform3fv(prog.uniform_location("qc_background"), 1, opt.background.c);
-        gl.Uniform4fv(prog.uniform_location("qc_pz"), 1, pz);
+        gl.Uniform4fv(prog.uniform_location("qc_pz"), 1, pz.data());
         gl.Uniform4fv(prog.uniform_location("qc_silhouette_params"), 1, opt.silhouette.c);
         if (opt.environment) {
             gl.BindTextureUnit(4, etex_);

@@ -5,6 +5,7 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -326,11 +327,9 @@ TEST_CASE("tetrahedral pieces lie in their bounding balls; bilinear quads need n
     for (int i = 0; i < 2000; ++i) {
         glm::dvec3 p[4];
         for (auto& c : p) c = glm::dvec3(u(rng), u(rng), u(rng)) * (i % 3 == 0 ? 50.0 : 1.0) + glm::dvec3(i % 5 == 0 ? 300.0 : 0.0);
-        const double vol6 = std::fabs(glm::dot(p[1] - p[0], glm::cross(p[2] - p[0], p[3] - p[0])));
-        double longest = 0;
-        for (int a = 0; a < 4; ++a)
-            for (int b = a + 1; b < 4; ++b) longest = std::max(longest, glm::length(p[a] - p[b]));
-        if (!(vol6 > 1e-3 * longest * longest * longest)) continue;
+        std::array<Vec3<double>, 4> corners{};
+        for (int k = 0; k < 4; ++k) corners[static_cast<std::size_t>(k)] = vec3(p[k].x, p[k].y, p[k].z);
+        if (quadcast::tet_shape(corners).flatter_than(1e-3)) continue;
         glm::dmat4 q(0.0);
         q[0][0] = q[1][1] = q[2][2] = 1.0;
         q[3][3] = -1.0;
