@@ -662,6 +662,50 @@ struct OccluderChainDiskKernel {
     }
 };
 
+/// Occlusion culling by the rasteriser, per vertex of an occluder quadrilateral: its clip
+/// position and whether the record occludes (`occluder_corner`).
+struct OccluderCornerKernel {
+    static constexpr const char* name = "occluder_corner";
+    static constexpr const char* source = "quadcast::occluder_corner (quadcast/occlusion.hpp)";
+    static constexpr const char* summary = "a corner of the quadrilateral an occluder draws into the depth buffer, and whether it is usable";
+    template <class IO> static void run(IO& io) {
+        using T = typename IO::T;
+        const Mat4<T> vp = io.template mat<4>("view_projection");
+        const Vec3<T> vz_row = io.template vec<3>("vz_row");
+        const T vz_t = io.scalar("vz_t");
+        const Vec3<T> right = io.template vec<3>("right"), up = io.template vec<3>("up");
+        const Vec4<T> ball = io.template vec<4>("ball"), more = io.template vec<4>("more");
+        const Vec3<T> range = io.template vec<3>("range");
+        const Vec4<T> pz = io.template vec<4>("pz");
+        const T p11 = io.scalar("p11"), height = io.scalar("height"), k = io.scalar("k");
+        Vec4<T> clip{};
+        mask_t<T> usable{};
+        occluder_corner(vp, vz_row, vz_t, right, up, ball, more, range, pz, p11, height, k, clip, usable);
+        io.out("clip", clip);
+        io.out("usable", usable);
+    }
+    static void generate(std::mt19937& rng, std::span<float> in) {
+        std::size_t p = 0;
+        put_view_projection(rng, in, p);
+        const Mat3<float> r = random_rotation(rng);
+        put(in, p, r[2]);
+        put(in, p, uniform(rng, -60.0f, 60.0f));
+        put(in, p, r[0]);
+        put(in, p, r[1]);
+        const float r_in = uniform(rng, 0.0f, 3.0f);
+        put(in, p, vec4(random_point(rng, 60.0f), r_in));
+        const float h = uniform(rng, 0.0f, 1.0f) < 0.3f ? 0.0f : r_in * uniform(rng, 0.0f, 20.0f);
+        const Vec3<float> ha = random_direction(rng) * h;
+        put(in, p, vec4(r_in * uniform(rng, 1.0f, 1.2f) + h, ha[0], ha[1], ha[2]));
+        const float n = uniform(rng, 0.01f, 10.0f), f = n * uniform(rng, 2.0f, 1e3f);
+        put(in, p, vec3(n, f, uniform(rng, 0.01f, 0.3f)));
+        put(in, p, vec4(-(f + n) / (f - n), -2.0f * f * n / (f - n), -1.0f, 0.0f));
+        put(in, p, uniform(rng, 0.5f, 3.0f));
+        put(in, p, 768.0f);
+        put(in, p, std::floor(uniform(rng, 0.0f, 4.0f)));
+    }
+};
+
 /// Occlusion culling, per pixel of an occluder: whether its centre falls in the occluder's
 /// ellipse (`ellipse_covers`).
 struct EllipseCoversKernel {

@@ -66,6 +66,7 @@ const std::vector<KernelDef>& registry() {
         make_kernel<OccluderEllipseKernel>(),
         make_kernel<OccluderChainCountKernel>(),
         make_kernel<OccluderChainDiskKernel>(),
+        make_kernel<OccluderCornerKernel>(),
         make_kernel<EllipseCoversKernel>(),
         make_kernel<PixelSpanKernel>(),
         make_kernel<ShadowCoordKernel>(),

@@ -125,6 +125,55 @@ void occluder_chain_disk(const Vec3<T>& c, const Vec3<T>& half_axis, const T& ra
     radius_k = (radius + length(half_axis) * abs(t)) * T(1.0 + 1.0 / 1048576.0);
 }
 
+/// Corner k (0 <= k < 4, in the order -L-W, +L-W, +L+W, -L+W) of the occluder quadrilateral of a
+/// record, drawn by the rasteriser into a depth buffer without a depth write of its own (so early
+/// depth testing holds): its occluder ball (centre c = ball.xyz, radius r_in = ball.w) and chain
+/// (bounding radius more.x, half axis more.yzw; `occluder_chain_disk`).
+/// - A chain (half axis ha != 0): the rectangle c +- ha +- r_in u with u = cross(vz_row, ha) / |.|
+///   (`right` where that is shorter than |ha| / 16: any u perpendicular to the viewing axis will do).
+///   Each of its points c + t ha + s r_in u (|t|, |s| <= 1) lies on the disk perpendicular to the
+///   viewing axis of radius r_in around c + t ha, an occluder of the chain's continuum, so the
+///   rectangle's (planar) depth is never nearer than the surface in front of it.
+/// - A single ball: the square c +- q right +- q up, q = r_in 0.7071 (inside the disk of radius r_in).
+/// Usable when both end disks of the chain are (`occluder_usable`; every condition there is
+/// weakest at an end: the nearest distance s_t - radius_t is concave in t, s_t linear, the
+/// window-depth gap falls with s, |c_t|_1 is convex) and the half width |W| spans at least one
+/// pixel at the far end (|W| p11 height / 2 >= w_clip there): the rasteriser's snapping of the
+/// corners (1/256 pixel on llvmpipe) then stays far inside the margin r_in / 15 of the balls.
+/// `range`: near, far, gap (quadcast::render::occlusion_range); p11: the projection's P11.
+/// Numerics: the ends by `occluder_chain_disk` (k = 0, 1 of n = 2) and `view_distance`; u by
+/// `cross` and `length`; corner c + L sl + W sw (sl, sw = -1 or 1); clip = VP (corner, 1), left folds;
+/// w_clip(s) = P23 (-s) + P33.
+template <class T>
+void occluder_corner(const Mat4<T>& view_projection, const Vec3<T>& vz_row, const T& vz_t, const Vec3<T>& right, const Vec3<T>& up, const Vec4<T>& ball,
+                     const Vec4<T>& more, const Vec3<T>& range, const Vec4<T>& pz, const T& p11, const T& height, const T& k, Vec4<T>& clip,
+                     mask_t<T>& usable) {
+    const Vec3<T> c = vec3(ball[0], ball[1], ball[2]), ha = vec3(more[1], more[2], more[3]);
+    const T r_in = ball[3];
+    Vec3<T> e0{}, e1{};
+    T radius0{}, radius1{};
+    occluder_chain_disk(c, ha, more[0], T(0), T(2), e0, radius0);
+    occluder_chain_disk(c, ha, more[0], T(1), T(2), e1, radius1);
+    const T s0 = view_distance(vz_row, vz_t, e0), s1 = view_distance(vz_row, vz_t, e1);
+    const T l = length(ha);
+    const mask_t<T> chain = l > T(0);
+    const Vec3<T> u_raw = cross(vz_row, ha);
+    const T lu = length(u_raw);
+    const Vec3<T> u = select(lu > l * T(0.0625), u_raw / max(lu, T(1e-30)), right);
+    const T q = r_in * T(0.7071);
+    const Vec3<T> w = select(chain, u * r_in, right * q);
+    const Vec3<T> a = select(chain, ha, up * q);
+    const T half_width = select(chain, r_in, q);
+    const T w_far = max(pz[2] * -s0 + pz[3], pz[2] * -s1 + pz[3]);
+    const mask_t<T> wide = half_width * abs(p11) * (height * T(0.5)) >= w_far;
+    usable = (occluder_usable(s0, r_in, radius0, e0, vz_t, range[0], range[1], range[2], pz) &&
+              occluder_usable(s1, r_in, radius1, e1, vz_t, range[0], range[1], range[2], pz)) &&
+             (wide && r_in > T(0));
+    const T sl = select((k > T(0.5)) && (k < T(2.5)), T(1), T(-1));
+    const T sw = select(k > T(1.5), T(1), T(-1));
+    clip = view_projection * vec4((c + a * sl) + w * sw, T(1));
+}
+
 /// Whether the centre `frag` (window coordinates) of a pixel of a viewport falls in the NDC
 /// ellipse (centre, axes) of `occluder_ellipse`.
 /// Numerics: ndc = frag * (2 / size) - 1 (exact scaling by a power of two for power-of-two sizes,

@@ -153,6 +153,7 @@ public:
     void set_slab_quads(bool on) { slab_quads_ = on; }
     void set_early_discard(bool on) { early_discard_ = on; }
     void set_compute_bounds(bool on) { compute_bounds_ = on; }
+    void set_raster_occluders(bool on) { raster_occluders_ = on; }
     void set_dispatch_row_limit(std::uint32_t groups) { row_limit_ = std::clamp<std::uint32_t>(groups, 1u, 65535u); }
     /// Samples that passed (GL_SAMPLES_PASSED) in the primitive pass of the last `draw`.
     std::uint64_t samples_passed() const { return samples_passed_; }
@@ -272,6 +273,7 @@ public:
             gl.ClearBufferfv(GL_DEPTH, 0, &clear_one);
             gl.Enable(GL_DEPTH_TEST);
             gl.DepthFunc(GL_LESS);
+            if (opt.occlusion_culling) rasterise_occluders(light_cam_, shadow_size_, shadow_size_);
             draw_primitives(light_cam_, light, opt, true, opt.occlusion_culling, stex_);  // culled from the light: what it cannot see casts no shadow
         }
         const float bg[4] = {opt.background[0], opt.background[1], opt.background[2], 1.0f};
@@ -292,6 +294,7 @@ public:
         gl.ClearBufferfv(GL_DEPTH, 0, &one);
         if (depth_test_) gl.Enable(GL_DEPTH_TEST); else gl.Disable(GL_DEPTH_TEST);
         gl.DepthFunc(GL_LESS);
+        if (opt.occlusion_culling && depth_test_) rasterise_occluders(cam, opt.width, opt.height);  // (before the primitive pass's queries)
         if (!query_) gl.GenQueries(1, &query_);
         gl.BeginQuery(GL_SAMPLES_PASSED, query_);
         if (count_fragments_) {
@@ -409,9 +412,59 @@ public:
             draw_phase(cam, light, opt, deferred, cull_pass, ph, viewport);
             if (!ph.last()) earlier_phases_drawn_ += read_commands()[5 * render::variant_count];  // (the last phase's: `draw`)
         }
+        occluders_in_depth_ = false;
         gl.Enable(GL_DEPTH_CLAMP);  // (as for the primitives)
         for (ScenePass* p : passes_) p->draw(cam, light, opt, deferred);
         gl.Disable(GL_DEPTH_CLAMP);
+    }
+
+    /// Occlusion pass 1 by the rasteriser (`set_raster_occluders`): into the bound framebuffer's
+    /// cleared depth buffer (colour writes off), per variant with occluders its records'
+    /// quadrilaterals (`occluder_corner`), whose rasterised depth is never nearer than the
+    /// primitive's own surface at any pixel they cover. So the depth buffer stays conservative for
+    /// the primitive pass (whose own surfaces lie in front and are drawn: the picture does not
+    /// change), and the first cull pass takes it into its depth image (OcclusionPass::depth_image).
+    /// The depth test runs before the (empty) fragment stage.
+    void rasterise_occluders(const render::Camera& cam, int width, int height) {
+        occluders_in_depth_ = false;
+        if (!raster_occluders_ || count_ == 0) return;
+        const Api& gl = *api_;
+        const render::OcclusionRange range = render::occlusion_range(cam);
+        if (!(range.far > range.near)) return;
+        GLuint* q = nullptr;
+        if (cull_queries_used_ < static_cast<int>(std::size(cull_queries_))) {
+            q = &cull_queries_[cull_queries_used_++];
+            if (!*q) gl.GenQueries(1, q);
+            gl.BeginQuery(GL_TIME_ELAPSED, *q);
+        }
+        const Program& prog = programs_.get(render::OcclusionKey{render::OcclusionPass::occluder_raster});
+        gl.UseProgram(prog.id());
+        detail::set_camera_uniforms(gl, prog, cam, width, height);
+        gl.Uniform3f(prog.uniform_location("qc_occluder_range"), range.near, range.far, range.gap);
+        const float right[3] = {cam.view[0][0], cam.view[1][0], cam.view[2][0]}, up[3] = {cam.view[0][1], cam.view[1][1], cam.view[2][1]};
+        gl.Uniform3fv(prog.uniform_location("qc_right"), 1, right);
+        gl.Uniform3fv(prog.uniform_location("qc_up"), 1, up);
+        gl.Uniform1f(prog.uniform_location("qc_p11"), cam.projection[1][1]);
+        gl.BindVertexArray(vao_);
+        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, occluders_);
+        gl.Disable(GL_DEPTH_CLAMP);
+        gl.ColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+        gl.DepthMask(GL_TRUE);
+        for (render::Variant v : {render::Variant::sphere, render::Variant::ellipsoid, render::Variant::slab}) {
+            const auto& r = ranges_[static_cast<int>(v)];
+            if (r.second == 0) continue;
+            gl.Uniform1ui(prog.uniform_location("qc_first"), r.first);
+            gl.DrawElements(GL_TRIANGLES, static_cast<GLsizei>(6 * r.second), GL_UNSIGNED_INT, nullptr);
+        }
+        gl.ColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, 0);
+        if (q) {
+            gl.EndQuery(GL_TIME_ELAPSED);
+            GLuint64 ns = 0;
+            gl.GetQueryObjectui64v(*q, GL_QUERY_RESULT, &ns);
+            cull_ms_ += static_cast<double>(ns) * 1e-6;
+        }
+        occluders_in_depth_ = true;
     }
 
     /// One phase of `draw_primitives`: its cull pass, then its primitives.
@@ -549,9 +602,11 @@ private:
         };
         auto groups = [](std::uint32_t n, std::uint32_t size) { return (n + size - 1) / size; };
         const auto runs = [&](int v) { return ranges_[v].second != 0 && (ph.first() || static_cast<render::Variant>(v) == render::Variant::planes); };
-        if (!ph.first()) {
+        const bool from_depth = !ph.first() || (occluders_in_depth_ && ph.depth_target != 0);
+        if (from_depth) {
             // 1'. A later phase: what the earlier phases drew, from the depth target, into level 0
-            // (over the occluders' disks and the earlier phases' values).
+            // (over the occluders' disks and the earlier phases' values); or the first, after
+            // `rasterise_occluders`: the occluders' depths.
             const Program& dp = programs_.get(render::OcclusionKey{render::OcclusionPass::depth_image});
             gl.UseProgram(dp.id());
             detail::set_camera_uniforms(gl, dp, cam, width, height);  // (qc_pz)
@@ -562,8 +617,8 @@ private:
             gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
             gl.BindTextureUnit(5, 0);
         }
-        // 1. Occluders (the variants that have them), in the first phase.
-        if (ph.first()) {
+        // 1. Occluders (the variants that have them), in the first phase, unless rasterised.
+        if (ph.first() && !from_depth) {
             const Program& occ = programs_.get(render::OcclusionKey{render::OcclusionPass::occluders});
             common(occ);
             gl.Uniform3f(occ.uniform_location("qc_occluder_range"), range.near, range.far, range.gap);
@@ -892,6 +947,8 @@ private:
     std::uint32_t row_limit_ = 65535u;
     bool early_discard_ = true;
     bool compute_bounds_ = false;  ///< off by default: it did not pay on llvmpipe (bench spheres, 'comp')
+    bool raster_occluders_ = false;  ///< off by default: it did not pay on llvmpipe (bench spheres, 'rast')
+    bool occluders_in_depth_ = false;  ///< `rasterise_occluders` drew into the depth target of the next `draw_primitives`
     GLuint query_ = 0, fs_query_ = 0;
     std::uint64_t samples_passed_ = 0, fragment_invocations_ = 0;
     bool count_fragments_ = false;
@@ -905,6 +962,7 @@ void QuadricRenderer::set_depth_test(bool on) { impl_->set_depth_test(on); }
 void QuadricRenderer::set_slab_quads(bool on) { impl_->set_slab_quads(on); }
 void QuadricRenderer::set_early_discard(bool on) { impl_->set_early_discard(on); }
 void QuadricRenderer::set_compute_bounds(bool on) { impl_->set_compute_bounds(on); }
+void QuadricRenderer::set_raster_occluders(bool on) { impl_->set_raster_occluders(on); }
 void QuadricRenderer::set_dispatch_row_limit(std::uint32_t groups) { impl_->set_dispatch_row_limit(groups); }
 std::uint64_t QuadricRenderer::samples_passed() const { return impl_->samples_passed(); }
 void QuadricRenderer::set_count_fragments(bool on) { impl_->set_count_fragments(on); }

@@ -502,6 +502,42 @@ Stage occluder_shader() {
     return s;
 }
 
+/// Occlusion pass 1 drawn by the rasteriser (OcclusionPass::occluder_raster): four vertices per
+/// record of the drawn range (vertex k of record qc_first + i is vertex 4 i + k), each a corner of the
+/// record's occluder quadrilateral (`occluder_corner`); a record without a usable occluder puts
+/// all four outside the clip volume. The depth of the (planar) quadrilateral is rasterised, never
+/// written by the fragment stage, so the depth test runs before it.
+Stage occluder_raster_shader() {
+    Stage s;
+    std::ostringstream fns;
+    add_kernel(s, fns, "occluder_corner");
+    std::ostringstream m;
+    m << "layout(std430, binding = 2) readonly buffer qc_Occluders { vec4 qc_occluder[]; };  // per record: centre, ball radius (0: none); bounding radius, chain half axis\n"
+         "uniform uint qc_first;             // the drawn variant's first record\n"
+         "uniform mat4 qc_view_projection;\n"
+         "uniform vec3 qc_vz_row;            // third row of the world->view rotation\n"
+         "uniform float qc_vz_t;             // the view matrix's z translation\n"
+         "uniform vec3 qc_right, qc_up;      // first two rows of the world->view rotation\n"
+         "uniform vec3 qc_occluder_range;    // near and far view distances an occluder must lie between, gap (quadcast::render::occlusion_range)\n"
+         "uniform vec4 qc_pz;                // P22, P32, P23, P33 of the projection\n"
+         "uniform float qc_p11;              // P11 of the projection\n"
+         "uniform vec2 qc_viewport;\n\n"
+      << fns.str()
+      << "void main()\n{\n"
+         "    uint prim = qc_first + uint(gl_VertexID) / 4u;\n"
+         "    vec4 ball = qc_occluder[2u * prim];\n"
+         "    vec4 more = qc_occluder[2u * prim + 1u];\n"
+         "    vec4 clip = vec4(2.0, 2.0, 2.0, 1.0);\n"
+         "    bool usable = false;\n"
+         "    if (ball.w > 0.0)\n"
+         "        qc_occluder_corner(qc_view_projection, qc_vz_row, qc_vz_t, qc_right, qc_up, ball, more, qc_occluder_range, qc_pz, qc_p11, qc_viewport.y,\n"
+         "                           float(gl_VertexID & 3), clip, usable);\n"
+         "    gl_Position = usable ? clip : vec4(2.0, 2.0, 2.0, 1.0);\n"
+         "}\n";
+    s.text = m.str();
+    return s;
+}
+
 /// Occlusion pass 1 of a later phase of phased drawing: each pixel of the depth image takes the
 /// view distance of what the depth buffer now holds there (`depth_distance`, no nearer than it)
 /// where that is nearer than its value; the background and what lies at the far plane leave it.
@@ -730,8 +766,13 @@ Stage bounds_shader(bool sphere, bool ortho) {
 
 }  // namespace
 
+namespace {
+
+/// The compute stage of an occlusion pass.
 StageText occlusion_stage(const render::OcclusionKey& k) {
     switch (k.pass) {
+    case render::OcclusionPass::occluder_raster:
+        break;
     case render::OcclusionPass::occluders:
         return stage_text(StageText::Kind::compute, "qc_occluders.comp", occluder_shader(), "occlusion culling: occluder disks into the depth image");
     case render::OcclusionPass::depth_image:
@@ -764,6 +805,20 @@ StageText occlusion_stage(const render::OcclusionKey& k) {
     }
     return stage_text(StageText::Kind::compute, "qc_cull.comp", cull_shader(), "occlusion culling: the frustum and occlusion test of every record");
 }
+
+}  // namespace
+
+std::vector<StageText> program_stages(const render::OcclusionKey& k) {
+    if (k.pass == render::OcclusionPass::occluder_raster) {
+        Stage f;
+        f.text = "void main()\n{\n}\n";
+        return {stage_text(StageText::Kind::vertex, "qc_occluder_raster.vert", occluder_raster_shader(),
+                           "occlusion culling: the occluders' quadrilaterals into the depth buffer (vertex stage)"),
+                stage_text(StageText::Kind::fragment, "qc_occluder_raster.frag", f, "occlusion culling: the occluders' quadrilaterals (depth only)")};
+    }
+    return {occlusion_stage(k)};
+}
+
 
 std::vector<StageText> program_stages(const render::QuadricKey& key) {
     render::check(key);

@@ -1,7 +1,9 @@
 // tests/gl/test_occlusion_gl.cpp -- the occlusion cull pass changes no pixel (forward, deferred,
 // shadows and outlines, culling on and off, tight bounds off, slab rectangles, perspective and
 // orthographic, eye inside bounds, near and far planes through occluders; the survivors' corners
-// from the vertex stage or from a compute pass), and it culls what is hidden or off screen
+// from the vertex stage or from a compute pass; occluders from a compute pass or drawn by the
+// rasteriser), and it culls what is hidden or off screen; occluder quadrilaterals lie behind the
+// surfaces in front of them (long double rays)
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -18,6 +20,7 @@
 #include "quadcast/render/cpu_renderer.hpp"
 #include "quadcast/occlusion.hpp"
 #include "quadcast/render/occluder.hpp"
+#include "core/param_test_util.hpp"
 #include "render/bounds_scenes.hpp"
 
 using namespace qc_bounds_test;
@@ -137,6 +140,12 @@ TEST_CASE("the occlusion cull pass changes no pixel of the GL renderer") {
             r.draw(s.camera, light, o);
             const Image culled_compute = r.read();  // (its count of kept primitives may differ: occluder stores race)
             r.set_compute_bounds(false);
+            // The occluders drawn by the rasteriser into the depth buffer instead of the compute pass's disks
+            r.set_raster_occluders(true);
+            r.draw(s.camera, light, o);
+            const Image culled_raster = r.read();
+            const std::size_t drawn_raster = r.drawn_primitives();
+            r.set_raster_occluders(false);
             o.occlusion_culling = false;
             r.draw(s.camera, light, o);
             const Image all = r.read();
@@ -144,10 +153,12 @@ TEST_CASE("the occlusion cull pass changes no pixel of the GL renderer") {
             CHECK(r.drawn_primitives() == s.prims.size());
             const ImageDiff d = image_diff(culled, all);
             const ImageDiff dv = image_diff(culled_compute, all);
+            const ImageDiff dr = image_diff(culled_raster, all);
             const char* what = mode == 0 ? "forward" : mode == 1 ? "culling off" : mode == 2 ? "deferred" : mode == 3 ? "shadows + outlines"
                              : mode == 4 ? "tight bounds off" : "slab rectangles";
-            std::printf("[occlusion] %s, %s: %ld covered px, %ld coverage / %ld colour / %ld depth differences (corners from a compute pass: %ld / %ld / %ld); %zu of %zu primitives drawn\n",
-                        s.name.c_str(), what, d.covered, d.coverage_diff, d.color_diff, d.depth_diff, dv.coverage_diff, dv.color_diff, dv.depth_diff, drawn, s.prims.size());
+            std::printf("[occlusion] %s, %s: %ld covered px, %ld coverage / %ld colour / %ld depth differences (corners from a compute pass: %ld / %ld / %ld; rasterised occluders: %ld / %ld / %ld); %zu (rasterised occluders: %zu) of %zu primitives drawn\n",
+                        s.name.c_str(), what, d.covered, d.coverage_diff, d.color_diff, d.depth_diff, dv.coverage_diff, dv.color_diff, dv.depth_diff, dr.coverage_diff,
+                        dr.color_diff, dr.depth_diff, drawn, drawn_raster, s.prims.size());
             CAPTURE(s.name);
             CAPTURE(what);
             CHECK(d.covered > 300);
@@ -157,8 +168,14 @@ TEST_CASE("the occlusion cull pass changes no pixel of the GL renderer") {
             CHECK(dv.coverage_diff == 0);
             CHECK(dv.color_diff == 0);
             CHECK(dv.depth_diff == 0);
+            CHECK(dr.coverage_diff == 0);
+            CHECK(dr.color_diff == 0);
+            CHECK(dr.depth_diff == 0);
             CHECK(drawn <= s.prims.size());
-            if (s.name == "dense block, perspective" || s.name == "dense block, orthographic") CHECK(drawn < s.prims.size() * 6 / 10);
+            if (s.name == "dense block, perspective" || s.name == "dense block, orthographic") {
+                CHECK(drawn < s.prims.size() * 6 / 10);
+                CHECK(drawn_raster < s.prims.size() * 8 / 10);  // (the quadrilaterals cover less than the disks)
+            }
         }
     }
 }
@@ -315,6 +332,163 @@ TEST_CASE("occluder balls lie inside their solids") {
     for (int j = 0; j < 4; ++j)
         for (int i = 0; i < 4; ++i) flipped.shape.q.q[j][i] = -flipped.shape.q.q[j][i];
     CHECK(quadcast::render::occluder_radius(flipped) == 0.0f);
+}
+
+namespace {
+
+using qct::LD;
+using M4 = qct::M4L;  // [column][row]
+
+std::array<LD, 3> unproject(const M4& inv, LD x, LD y, LD z) {
+    const LD v[4] = {x, y, z, 1.0L};
+    LD o[4] = {0, 0, 0, 0};
+    for (int r = 0; r < 4; ++r)
+        for (int c = 0; c < 4; ++c) o[r] += inv[c][r] * v[c];
+    return {o[0] / o[3], o[1] / o[3], o[2] / o[3]};
+}
+
+LD dot3(const std::array<LD, 3>& a, const std::array<LD, 3>& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+std::array<LD, 3> sub3(const std::array<LD, 3>& a, const std::array<LD, 3>& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+std::array<LD, 3> cross3(const std::array<LD, 3>& a, const std::array<LD, 3>& b) {
+    return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+
+/// The ray parameter where o + t d enters the solid capped cylinder from a to b of radius r (or
+/// the ball of radius r around a when a == b); NaN when it misses.
+LD enter_capsule_free(const std::array<LD, 3>& o, const std::array<LD, 3>& d, const std::array<LD, 3>& a, const std::array<LD, 3>& b, LD r) {
+    const std::array<LD, 3> ab = sub3(b, a), oa = sub3(o, a);
+    const LD len = std::sqrt(dot3(ab, ab));
+    if (len == 0) {  // ball
+        const LD B = dot3(oa, d), C = dot3(oa, oa) - r * r, A = dot3(d, d), disc = B * B - A * C;
+        return disc < 0 ? NAN : (-B - std::sqrt(disc)) / A;
+    }
+    const std::array<LD, 3> ax = {ab[0] / len, ab[1] / len, ab[2] / len};
+    const LD da = dot3(d, ax), oaa = dot3(oa, ax);
+    const std::array<LD, 3> dp = {d[0] - da * ax[0], d[1] - da * ax[1], d[2] - da * ax[2]}, op = {oa[0] - oaa * ax[0], oa[1] - oaa * ax[1], oa[2] - oaa * ax[2]};
+    LD t0 = -INFINITY, t1 = INFINITY;
+    const LD A = dot3(dp, dp), B = dot3(op, dp), C = dot3(op, op) - r * r;
+    if (A > 0) {
+        const LD disc = B * B - A * C;
+        if (disc < 0) return NAN;
+        t0 = (-B - std::sqrt(disc)) / A;
+        t1 = (-B + std::sqrt(disc)) / A;
+    } else if (C > 0) {
+        return NAN;
+    }
+    LD s0 = -INFINITY, s1 = INFINITY;
+    if (da != 0) {
+        s0 = (0 - oaa) / da;
+        s1 = (len - oaa) / da;
+        if (s0 > s1) std::swap(s0, s1);
+    } else if (oaa < 0 || oaa > len) {
+        return NAN;
+    }
+    const LD enter = std::max(t0, s0), leave = std::min(t1, s1);
+    return enter <= leave ? enter : NAN;
+}
+
+}  // namespace
+
+TEST_CASE("occluder quadrilaterals lie behind the surfaces in front of them") {
+    // Independent check in long double of what the rasterised occluders rely on: through every
+    // point of the quadrilateral `occluder_corner` gives (the square of a sphere, the rectangle
+    // along a capped stick), the pixel ray enters the primitive's solid (its exact geometry, not its
+    // quadric) nearer than the quadrilateral's plane, by more than 2^-20 in window depth.
+    std::mt19937 rng(31);
+    std::uniform_real_distribution<double> u(-1.0, 1.0), u01(0.0, 1.0);
+    int usable_count = 0, points = 0, sticks = 0;
+    LD worst_gap = 1;
+    for (int i = 0; i < 3000; ++i) {
+        const bool ortho = i % 4 == 3;
+        const double fov = 20.0 + 70.0 * u01(rng), dist = 2.0 + 18.0 * u01(rng);
+        const Vec3<double> dir = normalize(vec3(u(rng), u(rng), u(rng)) + vec3(1e-3, 0.0, 0.0));
+        const Vec3<double> target = vec3(u(rng), u(rng), u(rng)) * 0.3;
+        const double n = 0.05 + 0.5 * u01(rng), f = dist + 3.0 + 20.0 * u01(rng);
+        const double half = dist * std::tan(fov * 3.14159265358979 / 360.0);
+        const Camera cam = qc_render_test::look_at(target + dir * dist, target, vec3(0.0, 1.0, 0.0),
+                                                   ortho ? qc_render_test::orthographic(-half * 4 / 3, half * 4 / 3, -half, half, n, f)
+                                                         : qc_render_test::perspective(fov, 4.0 / 3.0, n, f),
+                                                   ortho);
+        // A sphere or a capped stick of 1 to 30 radii near the target
+        const double r = 0.02 + 0.4 * u01(rng);
+        const glm::vec3 c(float(u(rng) * 0.5), float(u(rng) * 0.5), float(u(rng) * 0.5));
+        const glm::vec3 ad = glm::normalize(glm::vec3(float(u(rng)), float(u(rng)), float(u(rng))) + glm::vec3(1e-3f));
+        const bool stick = i % 2 == 1;
+        const float half_len = stick ? float(r * (0.5 + 15.0 * u01(rng))) : 0.0f;
+        const Primitive p = stick ? shapes::cylinder(c - ad * half_len, c + ad * half_len, float(r), shapes::Ends::both) : shapes::sphere(c, float(r));
+        const quadcast::render::OccluderShape o = quadcast::render::occluder_shape(p);
+        REQUIRE(o.r_in > 0.0f);
+        const quadcast::render::OcclusionRange range = quadcast::render::occlusion_range(cam);
+        const Mat4<float> vpf = quadcast::render::view_projection(cam);
+        Mat4<double> vp{};
+        M4 vpl{};
+        for (int a = 0; a < 4; ++a)
+            for (int b = 0; b < 4; ++b) {
+                vp[a][b] = vpf[a][b];
+                vpl[a][b] = vpf[a][b];
+            }
+        const M4 inv = qct::inverse(vpl);
+        const Vec3<double> vz_row = vec3<double>(cam.view[0][2], cam.view[1][2], cam.view[2][2]), right = vec3<double>(cam.view[0][0], cam.view[1][0], cam.view[2][0]),
+                           up = vec3<double>(cam.view[0][1], cam.view[1][1], cam.view[2][1]);
+        const Vec4<double> pz = vec4<double>(cam.projection[2][2], cam.projection[3][2], cam.projection[2][3], cam.projection[3][3]);
+        const Vec4<double> ball = vec4<double>(p.shape.center[0], p.shape.center[1], p.shape.center[2], o.r_in);
+        const Vec4<double> more = vec4<double>(p.shape.radius, o.half_axis[0], o.half_axis[1], o.half_axis[2]);
+        Vec4<double> clip[4]{};
+        bool usable[4] = {};
+        for (int k = 0; k < 4; ++k)
+            quadcast::occluder_corner(vp, vz_row, double(cam.view[3][2]), right, up, ball, more, vec3<double>(range.near, range.far, range.gap), pz, double(cam.projection[1][1]),
+                                      768.0, double(k), clip[k], usable[k]);
+        CHECK((usable[0] == usable[1] && usable[1] == usable[2] && usable[2] == usable[3]));
+        if (!usable[0]) continue;
+        ++usable_count;
+        sticks += stick;
+        std::array<LD, 3> world[4];
+        LD ndc[4][2];
+        for (int k = 0; k < 4; ++k) {
+            ndc[k][0] = LD(clip[k][0]) / LD(clip[k][3]);
+            ndc[k][1] = LD(clip[k][1]) / LD(clip[k][3]);
+            world[k] = unproject(inv, ndc[k][0], ndc[k][1], LD(clip[k][2]) / LD(clip[k][3]));
+        }
+        const std::array<LD, 3> normal = cross3(sub3(world[1], world[0]), sub3(world[3], world[0]));
+        const std::array<LD, 3> a = {LD(c.x) - LD(ad.x) * half_len, LD(c.y) - LD(ad.y) * half_len, LD(c.z) - LD(ad.z) * half_len},
+                                b = {LD(c.x) + LD(ad.x) * half_len, LD(c.y) + LD(ad.y) * half_len, LD(c.z) + LD(ad.z) * half_len};
+        auto window_depth = [&](const std::array<LD, 3>& x) {
+            LD zc = 0, wc = 0;
+            const LD v[4] = {x[0], x[1], x[2], 1.0L};
+            for (int k = 0; k < 4; ++k) {
+                zc += vpl[k][2] * v[k];
+                wc += vpl[k][3] * v[k];
+            }
+            return zc / wc * 0.5L + 0.5L;
+        };
+        for (int j = 0; j < 40; ++j) {
+            // A point of the quadrilateral on screen: a corner, or a convex combination of the corners
+            LD w[4] = {0, 0, 0, 0}, sum = 0;
+            if (j < 4) w[j] = 1;
+            else
+                for (LD& x : w) sum += (x = LD(u01(rng)) + 1e-6L);
+            if (j >= 4)
+                for (LD& x : w) x /= sum;
+            const LD mx = w[0] * ndc[0][0] + w[1] * ndc[1][0] + w[2] * ndc[2][0] + w[3] * ndc[3][0];
+            const LD my = w[0] * ndc[0][1] + w[1] * ndc[1][1] + w[2] * ndc[2][1] + w[3] * ndc[3][1];
+            const std::array<LD, 3> o0 = unproject(inv, mx, my, -1.0L), o1 = unproject(inv, mx, my, 1.0L);
+            const std::array<LD, 3> d = sub3(o1, o0);
+            const LD tq = dot3(normal, sub3(world[0], o0)) / dot3(normal, d);
+            const std::array<LD, 3> q = {o0[0] + tq * d[0], o0[1] + tq * d[1], o0[2] + tq * d[2]};
+            const LD th = enter_capsule_free(o0, d, a, b, LD(r));
+            CAPTURE(i);
+            CAPTURE(j);
+            REQUIRE(!std::isnan(th));
+            const std::array<LD, 3> hit = {o0[0] + th * d[0], o0[1] + th * d[1], o0[2] + th * d[2]};
+            const LD gap = window_depth(q) - window_depth(hit);
+            worst_gap = std::min(worst_gap, gap);
+            CHECK(gap > 1.0L / 1048576.0L);
+            ++points;
+        }
+    }
+    std::printf("[occlusion] occluder quadrilaterals: %d usable of 3000 (%d sticks), %d points, smallest window-depth gap %.3Le\n", usable_count, sticks, points, worst_gap);
+    CHECK(usable_count > 1000);
+    CHECK(sticks > 400);
 }
 
 TEST_CASE("tetrahedral pieces lie in their bounding balls; bilinear quads need not") {

@@ -72,7 +72,7 @@ TEST_CASE("glslang accepts the stages of every variant key the renderers can ask
     int count = 0;
     for (const render::QuadricKey& k : render::all_quadric_keys()) validate(dir, render::key_name(k), gl::program_stages(k), seen, count);
     for (const render::DeferredKey& k : render::all_deferred_keys()) validate(dir, render::key_name(k), gl::program_stages(k), seen, count);
-    for (const render::OcclusionKey& k : render::all_occlusion_keys()) validate(dir, render::key_name(k), {gl::occlusion_stage(k)}, seen, count);
+    for (const render::OcclusionKey& k : render::all_occlusion_keys()) validate(dir, render::key_name(k), gl::program_stages(k), seen, count);
     for (const render::IsoKey& k : render::all_iso_keys()) validate(dir, render::key_name(k), gl::program_stages(k), seen, count);
     for (const render::SlimKey& k : render::all_slim_keys()) validate(dir, render::key_name(k), gl::program_stages(k), seen, count);
     for (render::VolumeScheme s : {render::VolumeScheme::qss, render::VolumeScheme::s31})

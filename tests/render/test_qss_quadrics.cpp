@@ -152,7 +152,7 @@ TEST_CASE("isosurface_quadrics: the pieces equal the spline (its own evaluation)
             const auto r = spl::evaluate(g, quadcast::Vec<double, 3>{{(local[0] + c[0]) / h, (local[1] + c[1]) / h, (local[2] + c[2]) / h}});
             const double gs = std::sqrt(double(r.gradient[0] * r.gradient[0] + r.gradient[1] * r.gradient[1] + r.gradient[2] * r.gradient[2])) / h;
             if (gs < 0.05) continue;  // flat spots: the ratio says nothing
-            const double dq = eval_quadric(q, local) / length(gq), ds = (double(r.value) - iso) / gs;
+            const double dq = eval_quadric(q, local) / length(gq), ds = (double(r.value) - double(iso)) / gs;
             worst = std::max(worst, std::fabs(dq - ds) / (h * (1 + std::fabs(ds) / h)));
             ++compared;
         }

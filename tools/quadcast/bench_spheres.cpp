@@ -15,7 +15,9 @@
 // --compare (spheres) the general closed-quadric variant (Variant::ellipsoid, tight bounds on)
 // draws the same spheres too, interleaved, and its ratio to the sphere variant is printed. The
 // cull pass is also timed with the kept primitives' corners computed by a compute pass instead of
-// the vertex stage ('comp', QuadricRenderer::set_compute_bounds), and that frame checked equal.
+// the vertex stage ('comp', QuadricRenderer::set_compute_bounds), and with the occluders drawn by the
+// rasteriser instead of written by a compute pass ('rast', QuadricRenderer::set_raster_occluders),
+// and those frames checked equal.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -97,10 +99,13 @@ void run_bounds_bench(const BoundsBenchOptions& o) {
                 o.sticks ? ";\n'rect': tight axis-aligned rectangles instead of the quadrilaterals, no cull pass" : "");
     std::printf("'late': the cull pass without the fragment stage's early discard against the occluder depth image;\n"
                 "'comp': the cull pass with the kept primitives' corners computed by a compute pass on all threads, the vertex stage fetching them\n"
-                "(QuadricRenderer::set_compute_bounds; 'c of cp': its cull passes' GPU time; 'cull/comp' > 1: the compute pass pays)\n");
+                "(QuadricRenderer::set_compute_bounds; 'c of cp': its cull passes' GPU time; 'cull/comp' > 1: the compute pass pays);\n"
+                "'rast': the cull pass with the occluders drawn into the depth buffer by the rasteriser instead of written pixel by pixel by a compute pass\n"
+                "(QuadricRenderer::set_raster_occluders; 'r of cp': its GPU time of the occluders and cull passes, 'r drawn': the primitives it keeps,\n"
+                "'r fs': its fragment-shader invocations per covered pixel; 'cull/rast' > 1: the rasteriser pays)\n");
     std::printf("%10s %9s %8s %8s %8s %8s %10s %10s %7s %6s %6s %6s %7s %7s %7s", o.sticks ? "sticks" : "spheres", "covered", "quad ms", "tight ms", "cull ms", "of it cp",
                 "quad/cull", "tight/cull", "drawn", "q rast", "t rast", "c rast", "q fs", "t fs", "c fs");
-    std::printf(" %9s %11s %9s %9s %11s", "late ms", "late/cull", "comp ms", "c of cp", "cull/comp");
+    std::printf(" %9s %11s %9s %9s %11s %8s %8s %8s %7s %9s", "late ms", "late/cull", "comp ms", "c of cp", "cull/comp", "rast ms", "r of cp", "r drawn", "r fs", "cull/rast");
     if (o.sticks) std::printf(" %8s %10s %7s", "rect ms", "rect/tight", "r rast");
     if (o.compare) std::printf(" %16s %14s %14s %15s", "closed cull ms", "sphere/closed", "closed comp ms", "cl. cull/comp");
     std::printf("\n");
@@ -160,6 +165,18 @@ void run_bounds_bench(const BoundsBenchOptions& o) {
             comp_diff += culled_img.depth[i] != comp_img.depth[i] || culled_img.rgba[4 * i] != comp_img.rgba[4 * i] ||
                          culled_img.rgba[4 * i + 1] != comp_img.rgba[4 * i + 1] || culled_img.rgba[4 * i + 2] != comp_img.rgba[4 * i + 2];
         if (comp_diff) std::printf("WARNING: %ld pixels differ between corners from the compute pass and from the vertex stage\n", comp_diff);
+        // Nor how the occluders reach the depth image: the rasteriser's quadrilaterals against the compute pass's disks
+        r.set_raster_occluders(true);
+        r.draw(cam, light, modes[2]);
+        const render::Image occ_img = r.read();
+        const std::size_t occ_drawn = r.drawn_primitives();
+        const double occ_frag = static_cast<double>(r.fragment_invocations());
+        r.set_raster_occluders(false);
+        long occ_diff = 0;
+        for (std::size_t i = 0; i < culled_img.depth.size(); ++i)
+            occ_diff += culled_img.depth[i] != occ_img.depth[i] || culled_img.rgba[4 * i] != occ_img.rgba[4 * i] ||
+                        culled_img.rgba[4 * i + 1] != occ_img.rgba[4 * i + 1] || culled_img.rgba[4 * i + 2] != occ_img.rgba[4 * i + 2];
+        if (occ_diff) std::printf("WARNING: %ld pixels differ between occluders from the rasteriser and from the compute pass\n", occ_diff);
         r.set_count_fragments(false);
         r.set_fragment_stage(gl::QuadricRenderer::FragmentStage::passthrough);
         r.set_depth_test(false);
@@ -180,7 +197,7 @@ void run_bounds_bench(const BoundsBenchOptions& o) {
         r.draw(cam, light, modes[2]);  // warm-up
         if (general) general->draw(cam, light, modes[2]);  // warm-up
         // Time the frames, interleaved
-        std::vector<double> ms[3], ms_general, ms_general_comp, ms_cull, ms_rect, ms_late, ms_comp, ms_cull_comp;
+        std::vector<double> ms[3], ms_general, ms_general_comp, ms_cull, ms_rect, ms_late, ms_comp, ms_cull_comp, ms_occ, ms_cull_occ;
         for (int i = 0; i < o.frames; ++i) {
             for (int m = 0; m < 3; ++m) ms[m].push_back(time_frame(r, modes[m]));
             ms_cull.push_back(r.cull_pass_ms());
@@ -191,6 +208,10 @@ void run_bounds_bench(const BoundsBenchOptions& o) {
             ms_comp.push_back(time_frame(r, modes[2]));
             ms_cull_comp.push_back(r.cull_pass_ms());
             r.set_compute_bounds(false);
+            r.set_raster_occluders(true);
+            ms_occ.push_back(time_frame(r, modes[2]));
+            ms_cull_occ.push_back(r.cull_pass_ms());
+            r.set_raster_occluders(false);
             if (o.sticks) {
                 r.set_slab_quads(false);
                 ms_rect.push_back(time_frame(r, modes[1]));
@@ -210,6 +231,8 @@ void run_bounds_bench(const BoundsBenchOptions& o) {
         const double t_late = median(ms_late);
         const double t_comp = median(ms_comp);
         std::printf(" %9.1f %10.2fx %9.1f %9.1f %10.2fx", t_late, t_late / t[2], t_comp, median(ms_cull_comp), t[2] / t_comp);
+        const double t_occ = median(ms_occ);
+        std::printf(" %8.1f %8.1f %7.1f%% %7.2f %8.2fx", t_occ, median(ms_cull_occ), 100.0 * static_cast<double>(occ_drawn) / std::max(1, n), occ_frag / covered, t[2] / t_occ);
         if (o.sticks) {
             const double t_rect = median(ms_rect);
             std::printf(" %8.1f %9.2fx %7.2f", t_rect, t_rect / t[1], rast_rect / covered);

@@ -41,7 +41,7 @@ public:
         return cached(render::key_name(c), [&] { return program_stages(c); });
     }
     const Program& get(const render::OcclusionKey& k) {
-        return cached(render::key_name(k), [&] { return std::vector<StageText>{occlusion_stage(k)}; });
+        return cached(render::key_name(k), [&] { return program_stages(k); });
     }
     /// The compute pre-pass of the precomputed isosurface stages.
     const Program& compute(render::VolumeScheme s) {

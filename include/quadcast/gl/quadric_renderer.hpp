@@ -66,6 +66,15 @@ public:
     /// computes them, once per corner. The same picture; a benchmark switch. Off by default
     /// because it did not pay on llvmpipe: `quadcast bench spheres` / `bench sticks`, column 'comp'.
     void set_compute_bounds(bool on);
+    /// With RenderOptions::occlusion_culling, the occluders reach the cull pass's depth image by a
+    /// compute pass that writes each occluder's disks pixel by pixel (the default), or, on, drawn by
+    /// the rasteriser into the depth buffer first (one quadrilateral per record,
+    /// `quadcast::occluder_corner`: a square inside a sphere's disk, a rectangle along a stick's
+    /// axis), whose depths the cull pass then reads. The same picture; fewer pixels occluded (the
+    /// quadrilaterals cover less than the disks). Off by default because it did not pay on
+    /// llvmpipe, whose rasteriser spent as long on the quadrilaterals as the compute pass on the
+    /// disks: `quadcast bench spheres` / `bench sticks`, column 'rast'.
+    void set_raster_occluders(bool on);
     /// The compute passes over records dispatch their workgroups (64 records each) in rows of at
     /// most this many (default and upper limit 65535, GL's guaranteed limit per dimension), so
     /// that a variant with more than 4M primitives can be culled. A test switch: smaller rows

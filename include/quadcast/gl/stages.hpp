@@ -33,8 +33,9 @@ std::vector<StageText> program_stages(const render::IsoKey& k);
 /// the ball's fragment stage, or the full-screen resolve.
 std::vector<StageText> program_stages(const render::SlimKey& k);
 
-/// The compute stage of an occlusion-culling pass.
-StageText occlusion_stage(const render::OcclusionKey& k);
+/// The stages of an occlusion-culling pass: one compute stage, or (OcclusionPass::occluder_raster)
+/// a vertex and a fragment stage.
+std::vector<StageText> program_stages(const render::OcclusionKey& k);
 
 /// The compute pre-pass of the `precomputed` isosurface stages (QSS and S31): the coefficients of
 /// every drawn tetrahedron by repeated averaging.

@@ -122,8 +122,10 @@ struct DeferredKey {
 /// slot of the visible list what the vertex stage would compute per primitive (the clip positions
 /// of its four corners and its nearest view distance, for the sphere-specialised vertex stage or
 /// the general one, per camera), so that the vertex stage only fetches; or (`depth_image`, later
-/// phases of phased drawing) the depth buffer's view distances into the depth image.
-enum class OcclusionPass : std::uint8_t { occluders, pyramid, cull, scan, compact, bounds, depth_image };
+/// phases of phased drawing, and after `occluder_raster`) the depth buffer's view distances into
+/// the depth image; or (`occluder_raster`, a vertex and a fragment stage) the occluders'
+/// quadrilaterals drawn into the depth buffer by the rasteriser.
+enum class OcclusionPass : std::uint8_t { occluders, pyramid, cull, scan, compact, bounds, depth_image, occluder_raster };
 struct OcclusionKey {
     OcclusionPass pass = OcclusionPass::occluders;
     bool sphere = false;  ///< `bounds`: of the sphere-specialised vertex stage
@@ -176,7 +178,7 @@ inline std::string key_name(const IsoKey& k) {
 }
 
 inline std::string key_name(const OcclusionKey& k) {
-    const char* pass = k.pass == OcclusionPass::occluders ? "occluders" : k.pass == OcclusionPass::pyramid ? "pyramid" : k.pass == OcclusionPass::cull ? "cull" : k.pass == OcclusionPass::scan ? "scan" : k.pass == OcclusionPass::compact ? "compact" : k.pass == OcclusionPass::depth_image ? "depth_image" : "bounds";
+    const char* pass = k.pass == OcclusionPass::occluders ? "occluders" : k.pass == OcclusionPass::pyramid ? "pyramid" : k.pass == OcclusionPass::cull ? "cull" : k.pass == OcclusionPass::scan ? "scan" : k.pass == OcclusionPass::compact ? "compact" : k.pass == OcclusionPass::depth_image ? "depth_image" : k.pass == OcclusionPass::occluder_raster ? "occluder_raster" : "bounds";
     if (k.pass != OcclusionPass::bounds) return std::string("occlusion:") + pass;
     return std::string("occlusion:") + pass + (k.sphere ? ":sphere" : ":quadric") + (k.ortho ? ":ortho" : ":perspective");
 }
@@ -200,7 +202,7 @@ inline std::vector<SlimKey> all_slim_keys() {
 /// Every occlusion key a renderer can ask for.
 inline std::vector<OcclusionKey> all_occlusion_keys() {
     std::vector<OcclusionKey> out{{OcclusionPass::occluders}, {OcclusionPass::pyramid}, {OcclusionPass::cull}, {OcclusionPass::scan}, {OcclusionPass::compact},
-                                  {OcclusionPass::depth_image}};
+                                  {OcclusionPass::depth_image}, {OcclusionPass::occluder_raster}};
     for (bool sphere : {false, true})
         for (bool ortho : {false, true}) out.push_back({OcclusionPass::bounds, sphere, ortho});
     return out;
