@@ -57,6 +57,16 @@ long double view_z_of_depth(const Mat4<float>& p, float depth) {
     return -static_cast<long double>(p[3][2]) / (static_cast<long double>(p[2][2]) + ndc);
 }
 
+/// The world point of NDC (x, y, z) of a camera (double).
+Vec3<double> unproject(const Camera& cam, double x, double y, double z) {
+    const Mat4<float> vp = cam.projection * cam.view;
+    Mat<double, 4, 4> m{};
+    for (int a = 0; a < 4; ++a)
+        for (int b = 0; b < 4; ++b) m[a][b] = vp[a][b];
+    const Vec<double, 4> v = quadcast::host_inverse(m) * Vec<double, 4>{{x, y, z, 1.0}};
+    return vec3(v[0] / v[3], v[1] / v[3], v[2] / v[3]);
+}
+
 double marschner_lobb(double x, double y, double z) {
     const double a = 0.25, fm = 6.0, r = std::sqrt(x * x + y * y);
     return (1.0 - std::sin(M_PI * z / 2.0) + a * (1.0 + std::cos(2.0 * M_PI * fm * std::cos(M_PI * r / 2.0)))) / (2.0 * (1.0 + a));
@@ -268,23 +278,39 @@ TEST_CASE("seen from hundreds of piece sizes away, the quadrics keep every hit t
     o.culling = false;
     const Light light{vec3(-0.4f, 0.6f, -1.0f)};
     // (At 200 the cast from the eye lost 6 hits; at 600, 10^4 piece radii, the float pixel ray
-    // itself is off by more than the clip's slack and 3 are lost even so; at 40 one pixel differs
-    // by 0.02 in depth either way, not explained.)
-    for (const double dist : {200.0}) {
+    // itself is off by more than the clip's slack and 3 are lost even so: the Bezier path's hits
+    // there are the spline's first crossings, the quadrics' up to 0.26 off.)
+    const spl::SplineGrid<2, float> g = spl::build_spline<2>(vol, {{0.0, 0.0, 0.0}}, 1.0, 2);
+    for (const double dist : {40.0, 200.0}) {
         const Vec3<double> dir = normalize(vec3(2.6, -2.2, 2.4));
         const Camera cam = look_at(vec3(dist * dir[0], dist * dir[1], dist * dir[2]), vec3(0.0, 0.0, -0.1), vec3(0.0, 0.0, 1.0),
                                    perspective(2 * std::atan(1.6 / dist) * 180 / 3.14159265358979, double(w) / hh, dist - 3, dist + 3));
         const Image a = render_cpu(pieces, cam, light, o);
         const Image b = quadcast::render::render_volumes_cpu({&m}, cam, light, o);
         const ImageDiff d = image_diff(a, b, 2);
-        long deep = 0;
-        for (std::size_t i = 0; i < a.depth.size(); ++i) deep += a.depth[i] < 1.0f && b.depth[i] < 1.0f && std::fabs(a.depth[i] - b.depth[i]) > 1e-3f;
+        // Where the depths differ, the quadrics' hit must be a point of the spline's isosurface
+        // (evaluated independently, in double: spline::evaluate) on the boundary of the volume's
+        // domain [-1 - h/2, 1 + h/2]^3, where the surface leaves it: there the quadrics' clip slack
+        // keeps the crossing and the Bezier path's exact clip does not, and the ray goes on.
+        long deep = 0, unexplained = 0;
+        for (std::size_t i = 0; i < a.depth.size(); ++i) {
+            if (!(a.depth[i] < 1.0f && b.depth[i] < 1.0f && std::fabs(a.depth[i] - b.depth[i]) > 1e-3f)) continue;
+            ++deep;
+            const int px = int(i % std::size_t(w)), row = int(i / std::size_t(w));
+            const Vec3<double> x = unproject(cam, (px + 0.5) / w * 2 - 1, ((hh - 1 - row) + 0.5) / hh * 2 - 1, 2.0 * double(a.depth[i]) - 1);
+            const double f = double(spl::evaluate(g, quadcast::Vec<double, 3>{{(x[0] + 1) / h, (x[1] + 1) / h, (x[2] + 1) / h}}).value) - 0.5;
+            const double out = std::max({std::fabs(x[0]), std::fabs(x[1]), std::fabs(x[2])}) - (1 + h / 2);
+            std::printf("[qss quadrics]   pixel (%d, %d): depth %.6f (quadrics) / %.6f (Bezier); the quadrics' hit (%.6f, %.6f, %.6f): spline - iso %.2g, %.2g h off the "
+                        "domain's boundary\n", px, row, double(a.depth[i]), double(b.depth[i]), x[0], x[1], x[2], f, out / h);
+            unexplained += !(std::fabs(f) < 1e-4 && std::fabs(out) < 1e-3 * h);
+        }
         std::printf("[qss quadrics] eye %.0f away (%.0f piece radii): %ld covered px, %ld coverage / %ld colour differences, %ld depths differ by more "
                     "than 1e-3, max depth difference %.3g\n",
                     dist, dist / (h * 0.87), d.covered, d.coverage_diff, d.color_diff, deep, d.max_depth);
         CAPTURE(dist);
         CHECK(d.covered > 6000);
-        CHECK(deep == 0);
+        CHECK(deep <= 2);
+        CHECK(unexplained == 0);
         CHECK(d.coverage_diff <= d.covered / 100);
     }
 }
