@@ -112,6 +112,28 @@ inline void random_depth_terms(std::mt19937& rng, bool ortho, Vec4<float>& pz, f
     else pz = Vec4<float>{{-(f + n) / (f - n), -2.0f * f * n / (f - n), -1.0f, 0.0f}};
 }
 
+/// The GPU element list's frustum test: whether an element's corners lie wholly beyond one plane
+/// of the clip volume (`clip_outside`).
+struct ClipOutsideKernel {
+    static constexpr const char* name = "clip_outside";
+    static constexpr const char* source = "quadcast::spline::clip_outside (quadcast/spline/render.hpp)";
+    static constexpr const char* summary = "isosurface renderer, element list: whether an element's corners lie beyond one plane of the clip volume";
+    template <class IO> static void run(IO& io) {
+        std::array<Vec4<typename IO::T>, 8> c{};
+        for (int k = 0; k < 8; ++k) c[static_cast<std::size_t>(k)] = io.template vec<4>(corner_names[k]);
+        io.out("outside", spline::clip_outside(c));
+    }
+    static constexpr const char* corner_names[8] = {"c0", "c1", "c2", "c3", "c4", "c5", "c6", "c7"};
+    static void generate(std::mt19937& rng, std::span<float> in) {
+        std::size_t p = 0;
+        // Corners around a random clip position, some clusters wholly beyond a plane, some across it
+        const Vec4<float> base = vec4(uniform(rng, -3.0f, 3.0f), uniform(rng, -3.0f, 3.0f), uniform(rng, -3.0f, 3.0f), uniform(rng, -1.0f, 2.0f));
+        const float spread = uniform(rng, 0.0f, 1.0f) < 0.5f ? 0.01f : 1.0f;
+        for (int k = 0; k < 8; ++k)
+            put(in, p, base + vec4(uniform(rng, -spread, spread), uniform(rng, -spread, spread), uniform(rng, -spread, spread), uniform(rng, -spread, spread)));
+    }
+};
+
 template <bool Ortho>
 struct SplineCellVertexKernel {
     static constexpr const char* name = Ortho ? "spline_cell_vertex_ortho" : "spline_cell_vertex_perspective";

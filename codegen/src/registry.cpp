@@ -91,6 +91,7 @@ const std::vector<KernelDef>& registry() {
         make_kernel<TrilinearCellHitKernel>(),
         make_kernel<SplineCellVertexKernel<false>>(),
         make_kernel<SplineCellVertexKernel<true>>(),
+        make_kernel<ClipOutsideKernel>(),
         make_kernel<SplineFragmentKernel<2>>(),
         make_kernel<SplineFragmentKernel<3>>(),
         make_kernel<TrilinearFragmentKernel>(),

@@ -718,6 +718,7 @@ private:
             gl.BindBufferRange(GL_SHADER_STORAGE_BUFFER, 7, groups_, at, size);
             gl.UseProgram(scan.id());
             gl.Uniform1ui(scan.uniform_location("qc_group_count"), groups(ranges_[v].second, 64));
+            gl.Uniform1ui(scan.uniform_location("qc_per_kept"), 6u);
             gl.Uniform1ui(scan.uniform_location("qc_command_at"), static_cast<GLuint>(5 * v));
             gl.DispatchCompute(1, 1, 1);
             gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);

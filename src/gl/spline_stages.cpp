@@ -287,6 +287,130 @@ Stage coefficient_shader(Scheme scheme) {
     return s;
 }
 
+/// GLSL of the element list's frustum test of a box: its 8 corners `anchor + offset * scale`
+/// (offset: a GLSL expression of the corner number k) through the vertex stage's kernel
+/// (`cell_vertex`, perspective: the clip position is the same for both cameras), then
+/// `clip_outside` into the bool `outside`; `indent` spaces before each line.
+std::string box_outside_glsl(const std::string& anchor, const std::string& offset, const char* scale, int indent) {
+    const std::string in(static_cast<std::size_t>(indent), ' ');
+    std::ostringstream m;
+    m << in << "vec4 corner[8];\n"
+      << in << "for (int k = 0; k < 8; ++k) {\n"
+      << in << "    vec3 o, v, dir;\n" << in << "    float w, vz;\n"
+      << in << "    qc_spline_cell_vertex_perspective(" << anchor << ", " << offset << ", " << scale
+      << ", vec3(0.0), vec3(0.0), vec3(0.0, 0.0, -1.0), qc_origin, qc_spacing,\n"
+      << in << "        qc_view_proj, vec3(0.0, 0.0, 1.0), corner[k], o, w, v, dir, vz);\n"
+      << in << "}\n"
+      << in << "bool outside;\n"
+      << in << "qc_clip_outside(corner[0], corner[1], corner[2], corner[3], corner[4], corner[5], corner[6], corner[7], outside);\n";
+    return m.str();
+}
+
+/// The GPU element list (IsosurfaceRenderer::ElementList::gpu), pass 0 (splines): per active cube
+/// (slot) of the volume, the clip positions of its box's corners as the vertex stage computes its
+/// vertices (`cell_vertex`, offsets +-1 at scale 1/2: every vertex of its tetrahedra lies in the
+/// box; the perspective kernel, the clip position being the same for both cameras) and whether the
+/// box lies wholly outside the clip volume (`clip_outside`): qc_cube_kept 0, else 1.
+Stage cube_cull_shader() {
+    Stage s;
+    std::ostringstream fns;
+    add_kernel(s, fns, "spline_cell_vertex_perspective");
+    add_kernel(s, fns, "clip_outside");
+    std::ostringstream m;
+    m << "layout(local_size_x = 64) in;\n\n"
+         "layout(std430, binding = 8) readonly buffer qc_Cubes { int qc_cubes[]; };        // per slot its cube (i fastest)\n"
+         "layout(std430, binding = 9) writeonly buffer qc_CubeKept { uint qc_cube_kept[]; };\n"
+         "uniform uint qc_count;          // active cubes\n"
+         "uniform ivec3 qc_dims;          // the cube grid\n"
+         "uniform vec3 qc_origin;         // world position of sample (0,0,0)\n"
+         "uniform vec3 qc_spacing;        // world distance of neighbouring samples per axis\n"
+         "uniform mat4 qc_view_proj;\n\n"
+      << fns.str()
+      << "void main()\n{\n"
+         "    uint e = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * 64u + gl_LocalInvocationID.x;\n"
+         "    if (e >= qc_count) return;\n"
+         "    int c = qc_cubes[e];\n"
+         "    vec3 anchor = vec3(float(c % qc_dims.x), float((c / qc_dims.x) % qc_dims.y), float(c / (qc_dims.x * qc_dims.y)));\n"
+      << box_outside_glsl("anchor", "vec3(float((k & 1) * 2 - 1), float(((k >> 1) & 1) * 2 - 1), float(((k >> 2) & 1) * 2 - 1))", "vec2(0.5, 2.0)", 4)
+      << "    qc_cube_kept[e] = outside ? 0u : 1u;\n"
+         "}\n";
+    s.text = m.str();
+    return s;
+}
+
+/// The GPU element list, pass 1: per record of the volume's list of all its relevant tetrahedra
+/// (or active cells), whether it is kept: a tetrahedron when its cube's box is (pass 0), a cell
+/// when its own box is not wholly outside the clip volume (its corners as the vertex stage
+/// computes them, `cell_vertex`, and `clip_outside`); the kept ones flagged (qc_keep 1 + the kept
+/// records before it in its workgroup of 64) and counted per workgroup, as in the quadric
+/// renderer's cull pass.
+Stage element_cull_shader(bool tri) {
+    Stage s;
+    std::ostringstream fns;
+    if (tri) {
+        add_kernel(s, fns, "spline_cell_vertex_perspective");
+        add_kernel(s, fns, "clip_outside");
+    }
+    std::ostringstream m;
+    m << "layout(local_size_x = 64) in;\n\n"
+         "layout(std430, binding = 3) readonly buffer qc_All { uvec4 qc_all[]; };      // every relevant element of the volume\n"
+         "layout(std430, binding = 6) writeonly buffer qc_Keep { uint qc_keep[]; };     // per record: 0 culled, else 1 + its slot in the workgroup\n"
+         "layout(std430, binding = 7) writeonly buffer qc_Groups { uint qc_groups[]; };  // per workgroup of 64 records: the kept ones\n"
+         "uniform uint qc_count;\n";
+    if (tri)
+        m << "uniform vec3 qc_origin;         // world position of sample (0,0,0)\n"
+             "uniform vec3 qc_spacing;        // world distance of neighbouring samples per axis\n"
+             "uniform mat4 qc_view_proj;\n\n";
+    else
+        m << "layout(std430, binding = 9) readonly buffer qc_CubeKept { uint qc_cube_kept[]; };  // per slot (pass 0)\n\n";
+    m << fns.str()
+      << "shared uint qc_flags[64];\n\n"
+         "void main()\n{\n"
+         "    uint t = gl_LocalInvocationID.x;\n"
+         "    uint group = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;\n"
+         "    if (group >= (qc_count + 63u) / 64u) return;  // (a whole workgroup past the records: the dispatch's last row)\n"
+         "    uint e = group * 64u + t;\n"
+         "    bool inside = e < qc_count;\n"
+         "    bool kept = false;\n"
+         "    if (inside) {\n"
+         "        uvec4 rec = qc_all[e];\n";
+    if (tri)
+        m << box_outside_glsl("vec3(rec.xyz)", "vec3(float(k & 1), float((k >> 1) & 1), float((k >> 2) & 1))", "vec2(1.0, 1.0)", 8) << "        kept = !outside;\n";
+    else
+        m << "        kept = qc_cube_kept[rec.w >> 5u] != 0u;\n";
+    m << "    }\n"
+         "    qc_flags[t] = kept ? 1u : 0u;\n"
+         "    barrier();\n"
+         "    if (t == 0u) {  // exclusive prefix sum of the workgroup's flags, and its count\n"
+         "        uint run = 0u;\n"
+         "        for (uint r = 0u; r < 64u; ++r) { uint f = qc_flags[r]; qc_flags[r] = run; run += f; }\n"
+         "        qc_groups[group] = run;\n"
+         "    }\n"
+         "    barrier();\n"
+         "    if (inside) qc_keep[e] = kept ? qc_flags[t] + 1u : 0u;\n"
+         "}\n";
+    s.text = m.str();
+    return s;
+}
+
+/// The GPU element list, pass 3 (after the quadric renderer's scan, OcclusionPass::scan, has made
+/// the workgroup counts their first slots): each kept record copied, in the order of the volume's
+/// list, into the frame's element list the vertex stage and the coefficient pre-pass read.
+const char* element_compact_shader =
+    "layout(local_size_x = 64) in;\n\n"
+    "layout(std430, binding = 0) writeonly buffer qc_Elements { uvec4 qc_elements[]; };\n"
+    "layout(std430, binding = 3) readonly buffer qc_All { uvec4 qc_all[]; };\n"
+    "layout(std430, binding = 6) readonly buffer qc_Keep { uint qc_keep[]; };\n"
+    "layout(std430, binding = 7) readonly buffer qc_Groups { uint qc_groups[]; };\n"
+    "uniform uint qc_count;\n\n"
+    "void main()\n{\n"
+    "    uint group = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;\n"
+    "    uint e = group * 64u + gl_LocalInvocationID.x;\n"
+    "    if (e >= qc_count) return;\n"
+    "    uint k = qc_keep[e];\n"
+    "    if (k != 0u) qc_elements[qc_groups[group] + k - 1u] = qc_all[e];\n"
+    "}\n";
+
 }  // namespace
 
 namespace {
@@ -316,6 +440,28 @@ std::vector<StageText> program_stages(const render::IsoKey& k) {
         out.push_back(stage_text(StageText::Kind::fragment, "qc_iso_" + what + ".frag", fragment_shader(scheme, k.ortho, false),
                                  "isosurface renderer: fragment stage, " + kind + ", " + cam));
     return out;
+}
+
+StageText element_list_stage(render::OcclusionPass pass) {
+    switch (pass) {
+    case render::OcclusionPass::element_cull_tets:
+    case render::OcclusionPass::element_cull_cells: {
+        const bool tri = pass == render::OcclusionPass::element_cull_cells;
+        return stage_text(StageText::Kind::compute, tri ? "qc_iso_element_cull_cells.comp" : "qc_iso_element_cull_tets.comp", element_cull_shader(tri),
+                          tri ? "isosurface renderer, GPU element list: the frustum test of every active trilinear cell"
+                              : "isosurface renderer, GPU element list: every relevant tetrahedron kept with its cube");
+    }
+    case render::OcclusionPass::element_cull_cubes:
+        return stage_text(StageText::Kind::compute, "qc_iso_element_cull_cubes.comp", cube_cull_shader(),
+                          "isosurface renderer, GPU element list: the frustum test of every active cube's box");
+    case render::OcclusionPass::element_compact: {
+        Stage c;
+        c.text = element_compact_shader;
+        return stage_text(StageText::Kind::compute, "qc_iso_element_compact.comp", c, "isosurface renderer, GPU element list: the kept elements in order into the frame's list");
+    }
+    default:
+        throw std::invalid_argument("quadcast::gl::element_list_stage: not a pass of the element list");
+    }
 }
 
 StageText coefficient_stage(Scheme scheme) {

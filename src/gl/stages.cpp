@@ -673,7 +673,8 @@ const char* scan_shader =
     "layout(std430, binding = 5) buffer qc_Commands { uint qc_command[]; };\n"
     "layout(std430, binding = 7) buffer qc_Groups { uint qc_groups[]; };\n"
     "uniform uint qc_group_count;  // workgroups of the variant's cull pass\n"
-    "uniform uint qc_command_at;   // the variant's command (uint offset)\n\n"
+    "uniform uint qc_command_at;   // the variant's command (uint offset)\n"
+    "uniform uint qc_per_kept;     // what the command counts per kept record (6 indices of a quad; 1: records)\n\n"
     "shared uint qc_runs[64];\n\n"
     "void main()\n{\n"
     "    uint t = gl_LocalInvocationID.x;\n"
@@ -686,7 +687,7 @@ const char* scan_shader =
     "    uint before = 0u;\n"
     "    for (uint r = 0u; r < t; ++r) before += qc_runs[r];\n"
     "    for (uint g = begin; g < end; ++g) qc_groups[g] += before;\n"
-    "    if (t == 63u) qc_command[qc_command_at] = 6u * (before + run);\n"
+    "    if (t == 63u) qc_command[qc_command_at] = qc_per_kept * (before + run);\n"
     "}\n";
 
 /// Occlusion pass 5, a workgroup per 64 records as in the cull pass: each kept record into the
@@ -772,7 +773,12 @@ namespace {
 StageText occlusion_stage(const render::OcclusionKey& k) {
     switch (k.pass) {
     case render::OcclusionPass::occluder_raster:
-        break;
+        break;  // (two stages: program_stages)
+    case render::OcclusionPass::element_cull_cubes:
+    case render::OcclusionPass::element_cull_tets:
+    case render::OcclusionPass::element_cull_cells:
+    case render::OcclusionPass::element_compact:
+        return element_list_stage(k.pass);
     case render::OcclusionPass::occluders:
         return stage_text(StageText::Kind::compute, "qc_occluders.comp", occluder_shader(), "occlusion culling: occluder disks into the depth image");
     case render::OcclusionPass::depth_image:

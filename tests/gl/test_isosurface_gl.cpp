@@ -1,13 +1,16 @@
 // tests/gl/test_isosurface_gl.cpp -- the GL isosurface renderer (QSS, S31, trilinear) draws the CPU reference's image
 #include <doctest/doctest.h>
 
+#include <array>
 #include <cmath>
 #include <cstdio>
+#include <random>
 
 #include "quadcast/gl/isosurface_renderer.hpp"
 #include "quadcast/gl/osmesa_context.hpp"
 #include "quadcast/gl/quadric_renderer.hpp"
 #include "quadcast/render/spline_cpu_renderer.hpp"
+#include "quadcast/spline/render.hpp"
 #include "render/render_testing.hpp"
 
 using namespace quadcast;
@@ -122,42 +125,116 @@ TEST_CASE("the GL isosurface renderer draws the CPU reference's image (QSS, S31,
     }
 }
 
-TEST_CASE("frustum culling skips cubes outside the view and leaves the image unchanged") {
+TEST_CASE("frustum culling skips cubes outside the view and leaves the image unchanged, with the element list from the CPU or the GPU") {
     gl::OsmesaContext ctx;
     const spline::Volume<float> vol = marschner_lobb_volume(24);
     const double h = 2.0 / 23;
-    const VolumeModel m = prepare_volume(vol, vec3(-1.0, -1.0, -1.0), vec3(h, h, h), VolumeScheme::qss, 0.5f, vec3(0.9f, 0.7f, 0.4f), 2, false);
-    CHECK(m.coeffs.empty());
-    gl::QuadricRenderer qr(ctx.api());
-    gl::IsosurfaceRenderer iso(ctx.api());
-    qr.set_primitives({});
-    iso.add_volume(m);
-    qr.add_pass(iso);
-    Light light;
-    RenderOptions o;
-    o.width = 160;
-    o.height = 120;
-    // Close up: a part of the volume fills the view
-    const Camera cam = qc_render_test::look_at(vec3(0.5, -0.9, 0.9), vec3(0.3, 0.0, 0.2), vec3(0.0, 0.0, 1.0), qc_render_test::perspective(35, 160.0 / 120.0, 0.05, 10));
-    qr.draw(cam, light, o);
-    const Image culled = qr.read();
-    const gl::IsoDrawStats on = iso.stats(0);
-    iso.set_frustum_culling(false);
-    qr.draw(cam, light, o);
-    const Image all = qr.read();
-    const gl::IsoDrawStats off = iso.stats(0);
-    long covered = 0, differ = 0;
-    for (std::size_t i = 0; i < all.depth.size(); ++i) {
-        covered += all.depth[i] < 1.0f;
-        differ += all.depth[i] != culled.depth[i];
+    for (VolumeScheme scheme : {VolumeScheme::qss, VolumeScheme::trilinear}) {
+        const VolumeModel m = prepare_volume(vol, vec3(-1.0, -1.0, -1.0), vec3(h, h, h), scheme, 0.5f, vec3(0.9f, 0.7f, 0.4f), 2, false);
+        CHECK(m.coeffs.empty());
+        gl::QuadricRenderer qr(ctx.api());
+        gl::IsosurfaceRenderer iso(ctx.api());
+        qr.set_primitives({});
+        iso.add_volume(m);
+        qr.add_pass(iso);
+        Light light;
+        RenderOptions o;
+        o.width = 160;
+        o.height = 120;
+        struct View {
+            const char* name;
+            Camera cam;
+        };
+        const View views[] = {
+            // Close up: a part of the volume fills the view
+            {"close up", qc_render_test::look_at(vec3(0.5, -0.9, 0.9), vec3(0.3, 0.0, 0.2), vec3(0.0, 0.0, 1.0), qc_render_test::perspective(35, 160.0 / 120.0, 0.05, 10))},
+            // The eye inside the volume, the near plane through it
+            {"eye inside", qc_render_test::look_at(vec3(0.1, -0.2, 0.3), vec3(0.8, 0.5, -0.2), vec3(0.0, 0.0, 1.0), qc_render_test::perspective(60, 160.0 / 120.0, 0.2, 10))},
+            // Orthographic, the far plane through the volume
+            {"orthographic", qc_render_test::look_at(vec3(1.5, -2.0, 1.2), vec3(0.2, 0.1, 0.0), vec3(0.0, 0.0, 1.0),
+                                                     qc_render_test::orthographic(-0.6 * 4 / 3, 0.6 * 4 / 3, -0.6, 0.6, 0.5, 3.2), true)},
+        };
+        for (const View& view : views) {
+            auto frame = [&](gl::IsosurfaceRenderer::ElementList list, bool culling, std::size_t batch) {
+                iso.set_element_list(list);
+                iso.set_frustum_culling(culling);
+                iso.set_batch_elements(batch);
+                qr.draw(view.cam, light, o);
+                return std::make_pair(qr.read(), iso.stats(0));
+            };
+            using L = gl::IsosurfaceRenderer::ElementList;
+            const auto [all, off] = frame(L::cpu, false, 65536);
+            const auto [cpu, on] = frame(L::cpu, true, 65536);
+            const auto [gpu, on_gpu] = frame(L::gpu, true, 65536);
+            const auto [gpu_small, on_small] = frame(L::gpu, true, 100);  // many batches
+            const auto [gpu_all, off_gpu] = frame(L::gpu, false, 65536);
+            long covered = 0, differ[4] = {0, 0, 0, 0};
+            const Image* imgs[4] = {&cpu, &gpu, &gpu_small, &gpu_all};
+            for (std::size_t i = 0; i < all.depth.size(); ++i) {
+                covered += all.depth[i] < 1.0f;
+                for (int k = 0; k < 4; ++k)
+                    differ[k] += all.depth[i] != imgs[k]->depth[i] || all.rgba[4 * i] != imgs[k]->rgba[4 * i] || all.rgba[4 * i + 1] != imgs[k]->rgba[4 * i + 1] ||
+                                 all.rgba[4 * i + 2] != imgs[k]->rgba[4 * i + 2];
+            }
+            std::printf("[iso gl] %s, %s: CPU list %zu of %zu active cubes visible, %zu of %zu elements drawn, %zu octree nodes tested; GPU list %zu elements drawn "
+                        "(%zu in batches of 100); %ld covered px, %ld / %ld / %ld / %ld differ (CPU list / GPU list / its batches / GPU list unculled)\n",
+                        render::volume_scheme_name(scheme), view.name, on.visible, on.active, on.elements, off.elements, on.nodes_visited, on_gpu.elements,
+                        on_small.elements, covered, differ[0], differ[1], differ[2], differ[3]);
+            CAPTURE(view.name);
+            CHECK(covered > 3000);
+            CHECK(on.visible < on.active);
+            CHECK(off.visible == off.active);
+            CHECK(on.elements < off.elements);
+            CHECK(on_gpu.elements < off.elements);
+            CHECK(on_gpu.elements <= on.elements + on.elements / 100);  // (each element tested, not its cube; cells: the same boxes, with a margin)
+            CHECK(on_small.elements == on_gpu.elements);
+            CHECK(off_gpu.elements == off.elements);
+            for (long d : differ) CHECK(d == 0);
+        }
     }
-    std::printf("[iso gl] frustum culling: %zu of %zu active cubes visible, %zu of %zu tetrahedra drawn, %zu octree nodes tested; %ld covered px, %ld differ\n",
-                on.visible, on.active, on.elements, off.elements, on.nodes_visited, covered, differ);
-    CHECK(covered > 3000);
-    CHECK(on.visible < on.active);
-    CHECK(off.visible == off.active);
-    CHECK(on.elements < off.elements);
-    CHECK(differ == 0);
+}
+
+TEST_CASE("clip_outside culls only boxes whose every point lies outside the clip volume (long double)") {
+    // Random boxes and perspective cameras: where the float test says outside, 300 random points
+    // of the box, mapped in long double by the same matrix, all lie beyond one clip plane; where a
+    // point of the box lies inside the clip volume, it never says outside.
+    std::mt19937 rng(17);
+    std::uniform_real_distribution<double> u(-1.0, 1.0), u01(0.0, 1.0);
+    int outside = 0, inside = 0;
+    for (int it = 0; it < 20000; ++it) {
+        const Camera cam = qc_render_test::look_at(vec3(u(rng), u(rng), u(rng)) * 3.0, vec3(u(rng), u(rng), u(rng)) * 0.3, vec3(0.0, 0.0, 1.0),
+                                                   qc_render_test::perspective(20 + 80 * u01(rng), 4.0 / 3.0, 0.05 + u01(rng), 3 + 5 * u01(rng)));
+        const Mat4<float> vp = cam.projection * cam.view;
+        const Vec3<double> lo = vec3(u(rng), u(rng), u(rng)) * 4.0, size = vec3(u01(rng), u01(rng), u01(rng)) * (u01(rng) < 0.5 ? 0.05 : 1.5);
+        std::array<Vec4<float>, 8> c{};
+        std::array<Vec3<double>, 8> corner{};
+        for (int k = 0; k < 8; ++k) {
+            corner[k] = lo + vec3(k & 1 ? size[0] : 0.0, k & 2 ? size[1] : 0.0, k & 4 ? size[2] : 0.0);
+            c[static_cast<std::size_t>(k)] = vp * vec4(float(corner[k][0]), float(corner[k][1]), float(corner[k][2]), 1.0f);
+        }
+        const bool out = spline::clip_outside(c);
+        bool any_inside = false;
+        for (int j = 0; j < 300 && !any_inside; ++j) {
+            const long double a = j == 0 ? 0.5L : u01(rng), b = j == 0 ? 0.5L : u01(rng), e = j == 0 ? 0.5L : u01(rng);
+            const long double x[4] = {static_cast<long double>(float(lo[0])) + a * static_cast<long double>(float(lo[0] + size[0]) - float(lo[0])),
+                                      static_cast<long double>(float(lo[1])) + b * static_cast<long double>(float(lo[1] + size[1]) - float(lo[1])),
+                                      static_cast<long double>(float(lo[2])) + e * static_cast<long double>(float(lo[2] + size[2]) - float(lo[2])), 1.0L};
+            long double q[4] = {0, 0, 0, 0};
+            for (int r = 0; r < 4; ++r)
+                for (int col = 0; col < 4; ++col) q[r] += static_cast<long double>(vp[col][r]) * x[col];
+            any_inside = std::fabs(q[0]) <= q[3] && std::fabs(q[1]) <= q[3] && std::fabs(q[2]) <= q[3];
+        }
+        CAPTURE(it);
+        if (out) {
+            ++outside;
+            CHECK_FALSE(any_inside);
+        } else if (any_inside) {
+            ++inside;
+        }
+    }
+    std::printf("[iso gl] clip_outside: %d boxes outside, %d with a point inside, none of those culled\n", outside, inside);
+    CHECK(outside > 2000);
+    CHECK(inside > 2000);
 }
 
 TEST_CASE("isosurfaces and quadrics share the depth buffer; deferred shading draws the forward image") {

@@ -68,6 +68,28 @@ public:
     enum class CoefficientStage { vertex, compute };
     void set_coefficient_stage(CoefficientStage s) { coeff_stage_ = s; }
 
+    /// Where the frame's element list is built: on the CPU (the default), where the min-max
+    /// octree's hierarchical frustum test selects the cubes and their elements are uploaded each
+    /// frame; or on the GPU, where compute passes test every active cube's box against the view
+    /// frustum (`spline::clip_outside` of its corners as the vertex stage computes them; trilinear:
+    /// every active cell), keep the relevant tetrahedra of the kept cubes from the volume's list of
+    /// all of them, uploaded once, and copy them in order into the list the vertex stage reads
+    /// (IsoDrawStats::visible and nodes_visited are counted on the CPU path only). The same picture;
+    /// both draw over a fixed index buffer of at most 65536 elements, in batches. The CPU list is
+    /// the default: on llvmpipe the GPU list's frame time is within the noise of the CPU list's
+    /// (`quadcast bench isosurfaces`, column 'GPU list', time ratios to the CPU list: skull,
+    /// 218k tetrahedra, 1.00-1.01x; liver, 2.9M, 0.98-1.29x whole, 0.86-0.99x close-up), its
+    /// per-element compute passes costing about what the octree and the upload cost, and it keeps
+    /// 36 B per relevant element on the GPU against 16 B per drawn one.
+    enum class ElementList { gpu, cpu };
+    void set_element_list(ElementList l) { element_list_ = l; }
+    /// Elements per draw call (default and upper limit 65536, the index buffer's size; at least
+    /// 1). A test switch: smaller batches give the same picture.
+    void set_batch_elements(std::size_t n) {
+        batch_elements = std::clamp<std::size_t>(n, 1, 65536);
+        for (Volume& v : volumes_) v.index_capacity = 0;  // (remade at the new size)
+    }
+
     /// Adds a volume; `m` must outlive the renderer's use of it (its octree is consulted per
     /// frame). Uploads its determining sets (or samples). Throws std::invalid_argument for an
     /// empty or inconsistent model.
@@ -143,7 +165,17 @@ private:
         std::size_t index_capacity = 0;  ///< elements the index buffer covers
         std::size_t relevant = 0;
         IsoDrawStats stats;
+        // The GPU element list: every relevant element (uploaded on first use, again when the
+        // tetrahedron culling changes), the frame's list with room for all of them (the CPU list
+        // has `elements`), the cull pass's flags and workgroup counts, and the count the scan writes.
+        GLuint all = 0, listed = 0, keep = 0, groups = 0, count = 0;
+        GLuint cubes = 0, cube_kept = 0;  ///< splines: per slot its cube, and whether the frame keeps it
+        std::size_t all_count = 0;
+        int all_tet_culling = -1;  ///< the tetrahedron culling `all` was built with (-1: not built)
     };
+
+    /// Elements per batch of a draw: the index buffer covers this many at most.
+    std::size_t batch_elements = 65536;
 
     template <class V>
     void upload(GLenum target, const V& v) {
@@ -152,12 +184,14 @@ private:
     }
 
     void release(Volume& v) {
-        api_->DeleteBuffers(1, &v.data);
-        api_->DeleteBuffers(1, &v.elements);
-        api_->DeleteBuffers(1, &v.indices);
-        api_->DeleteBuffers(1, &v.coeffs);
-        v.data = v.elements = v.indices = v.coeffs = 0;
+        for (GLuint* b : {&v.data, &v.elements, &v.indices, &v.coeffs, &v.all, &v.listed, &v.keep, &v.groups, &v.count, &v.cubes, &v.cube_kept}) {
+            if (*b) api_->DeleteBuffers(1, b);
+            *b = 0;
+        }
     }
+
+    /// The world -> clip matrix of the vertex stage (qc_view_proj) and of the element list's cull pass.
+    static Mat4<float> view_proj(const render::Camera& cam) { return cam.projection * cam.view; }
 
     /// The index-space clip matrix view_proj · (origin + spacing ⊙ p), in double.
     static Mat<double, 4, 4> index_clip_matrix(const render::Camera& cam, const render::VolumeModel& m) {
@@ -174,10 +208,16 @@ private:
     /// into their relevant tetrahedra (slot << 5 | t), or the active cells.
     std::vector<std::uint32_t> select(Volume& v, const render::Camera& cam) const {
         const render::VolumeModel& m = *v.model;
-        const bool tri = m.scheme == render::VolumeScheme::trilinear;
         const spline::Frustum f = spline::frustum_from_clip_matrix(index_clip_matrix(cam, m));
         std::size_t visited = 0;
         const std::vector<int> cubes = m.octree.active_cubes(m.iso, frustum_culling_ ? &f : nullptr, &visited);
+        return expand(v, cubes, visited);
+    }
+
+    /// The records of the elements of `cubes` (octree order), and the frame's statistics.
+    std::vector<std::uint32_t> expand(Volume& v, const std::vector<int>& cubes, std::size_t visited) const {
+        const render::VolumeModel& m = *v.model;
+        const bool tri = m.scheme == render::VolumeScheme::trilinear;
         std::vector<std::uint32_t> rec;
         const int nx = m.octree.level(0).nx, ny = m.octree.level(0).ny;
         v.stats = IsoDrawStats{};
@@ -204,7 +244,7 @@ private:
         return rec;
     }
 
-    /// Index buffer for n elements: the 4 faces of a tetrahedron over its 4 vertices (vertex
+    /// Index buffer for n <= `batch_elements` elements (grown only): the 4 faces of a tetrahedron over its 4 vertices (vertex
     /// order of positive orientation, faces counter-clockwise seen from outside), or the 12
     /// triangles of a cell box over its 8 corners (corner k = (k & 1, k >> 1 & 1, k >> 2 & 1)).
     void ensure_indices(Volume& v, std::size_t n, bool tri) const {
@@ -212,7 +252,7 @@ private:
         static constexpr std::uint32_t tet[12] = {0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3};
         static constexpr std::uint32_t box[36] = {0, 2, 1, 1, 2, 3,  4, 5, 6, 5, 7, 6,  0, 1, 4, 1, 5, 4,
                                                   2, 6, 3, 3, 6, 7,  0, 4, 2, 2, 4, 6,  1, 3, 5, 3, 7, 5};
-        const std::size_t cap = std::max<std::size_t>(n, 2 * v.index_capacity);
+        const std::size_t cap = std::min(batch_elements, std::max<std::size_t>(n, 2 * v.index_capacity));
         const std::uint32_t per = tri ? 8 : 4;
         const std::size_t count = tri ? 36 : 12;
         std::vector<std::uint32_t> idx(cap * count);
@@ -227,15 +267,11 @@ private:
         const Api& gl = *api_;
         const render::VolumeModel& m = *v.model;
         const bool tri = m.scheme == render::VolumeScheme::trilinear;
-        const std::vector<std::uint32_t> rec = select(v, cam);
-        if (rec.empty()) return;
-        gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, v.elements);
-        upload(GL_SHADER_STORAGE_BUFFER, rec);
-        gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
-        const std::size_t n = rec.size() / 4;
-        ensure_indices(v, n, tri);
+        const std::size_t n = element_list_ == ElementList::gpu ? gpu_select(v, cam) : cpu_select(v, cam);
+        if (n == 0) return;
+        ensure_indices(v, std::min(n, batch_elements), tri);
         gl.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, v.indices);
-        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, v.elements);
+        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, element_list_ == ElementList::gpu ? v.listed : v.elements);
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, v.data);
         const bool pre = coeff_stage_ == CoefficientStage::compute && !tri;
         if (pre) {
@@ -255,8 +291,119 @@ private:
         gl.UseProgram(prog.id());
         set_uniforms(prog, m, cam, light, opt);
         gl.Uniform1ui(prog.uniform_location("qc_first"), 0u);
-        gl.DrawElements(GL_TRIANGLES, static_cast<GLsizei>(n * (tri ? 36 : 12)), GL_UNSIGNED_INT, nullptr);
+        // In batches over the index buffer of `batch_elements`: the base vertex moves gl_VertexID,
+        // and with it the element the vertex stage reads, to the batch's first.
+        const std::size_t per = tri ? 8 : 4;
+        for (std::size_t first = 0; first < n; first += batch_elements)
+            gl.DrawElementsBaseVertex(GL_TRIANGLES, static_cast<GLsizei>(std::min(batch_elements, n - first) * (tri ? 36 : 12)), GL_UNSIGNED_INT, nullptr,
+                                      static_cast<GLint>(first * per));
         if (pre) gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, 0);
+    }
+
+    /// The CPU element list: the octree's selection, uploaded into `elements`; its count.
+    std::size_t cpu_select(Volume& v, const render::Camera& cam) {
+        const std::vector<std::uint32_t> rec = select(v, cam);
+        if (rec.empty()) return 0;
+        api_->BindBuffer(GL_SHADER_STORAGE_BUFFER, v.elements);
+        upload(GL_SHADER_STORAGE_BUFFER, rec);
+        api_->BindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
+        return rec.size() / 4;
+    }
+
+    /// The GPU element list (`ElementList::gpu`): every relevant element of the volume (uploaded
+    /// once) tested against the frustum by a compute pass, the kept ones copied in order into
+    /// `listed` (OcclusionPass::element_cull_*, scan, element_compact); their count, read back.
+    std::size_t gpu_select(Volume& v, const render::Camera& cam) {
+        const Api& gl = *api_;
+        const render::VolumeModel& m = *v.model;
+        const bool tri = m.scheme == render::VolumeScheme::trilinear;
+        if (v.all_tet_culling != int(tet_culling_)) {
+            std::size_t visited = 0;
+            const std::vector<std::uint32_t> all = expand(v, m.octree.active_cubes(m.iso, nullptr, &visited), visited);
+            v.all_count = all.size() / 4;
+            const std::size_t groups = (v.all_count + 63) / 64;
+            for (GLuint* b : {&v.all, &v.listed, &v.keep, &v.groups, &v.count, &v.cubes, &v.cube_kept})
+                if (!*b) gl.GenBuffers(1, b);
+            if (!tri) {
+                gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, v.cubes);
+                upload(GL_SHADER_STORAGE_BUFFER, m.cubes);
+                gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, v.cube_kept);
+                gl.BufferData(GL_SHADER_STORAGE_BUFFER, static_cast<GLsizeiptr>(std::max<std::size_t>(1, m.cubes.size()) * sizeof(std::uint32_t)), nullptr, GL_DYNAMIC_COPY);
+            }
+            gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, v.all);
+            upload(GL_SHADER_STORAGE_BUFFER, all);
+            gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, v.listed);
+            gl.BufferData(GL_SHADER_STORAGE_BUFFER, static_cast<GLsizeiptr>(std::max<std::size_t>(1, v.all_count) * 4 * sizeof(std::uint32_t)), nullptr, GL_DYNAMIC_COPY);
+            gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, v.keep);
+            gl.BufferData(GL_SHADER_STORAGE_BUFFER, static_cast<GLsizeiptr>(std::max<std::size_t>(1, v.all_count) * sizeof(std::uint32_t)), nullptr, GL_DYNAMIC_COPY);
+            gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, v.groups);
+            gl.BufferData(GL_SHADER_STORAGE_BUFFER, static_cast<GLsizeiptr>(std::max<std::size_t>(1, groups) * sizeof(std::uint32_t)), nullptr, GL_DYNAMIC_COPY);
+            gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, v.count);
+            gl.BufferData(GL_SHADER_STORAGE_BUFFER, sizeof(std::uint32_t), nullptr, GL_DYNAMIC_COPY);
+            gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
+            v.all_tet_culling = int(tet_culling_);
+        }
+        v.stats = IsoDrawStats{};
+        v.stats.active = m.active;
+        v.stats.relevant = v.relevant;
+        if (v.all_count == 0) return 0;
+        if (!frustum_culling_) {  // every element: the whole list
+            gl.CopyNamedBufferSubData(v.all, v.listed, 0, 0, static_cast<GLsizeiptr>(v.all_count * 4 * sizeof(std::uint32_t)));
+            gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+            v.stats.elements = v.all_count;
+            return v.all_count;
+        }
+        const auto n = static_cast<std::uint32_t>(v.all_count);
+        const std::uint32_t groups = (n + 63) / 64, gx = std::min<std::uint32_t>(groups, 65535u), gy = (groups + gx - 1) / gx;
+        gl.MemoryBarrier(GL_ALL_BARRIER_BITS);  // (the last frame's reads of these buffers)
+        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, v.listed);
+        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, v.all);
+        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, v.count);
+        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, v.keep);
+        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, v.groups);
+        const float origin[3] = {float(m.origin[0]), float(m.origin[1]), float(m.origin[2])}, spacing[3] = {float(m.spacing[0]), float(m.spacing[1]), float(m.spacing[2])};
+        const Mat4<float> vp = view_proj(cam);
+        if (!tri) {
+            // Pass 0: the active cubes' boxes; a tetrahedron goes with its cube
+            const Program& cc = programs_.get(render::OcclusionKey{render::OcclusionPass::element_cull_cubes});
+            gl.UseProgram(cc.id());
+            const auto nc = static_cast<std::uint32_t>(m.cubes.size());
+            const std::uint32_t cg = (nc + 63) / 64, cx = std::min<std::uint32_t>(std::max<std::uint32_t>(cg, 1), 65535u);
+            gl.Uniform1ui(cc.uniform_location("qc_count"), nc);
+            gl.Uniform3i(cc.uniform_location("qc_dims"), m.nx, m.ny, m.nz);
+            gl.Uniform3fv(cc.uniform_location("qc_origin"), 1, origin);
+            gl.Uniform3fv(cc.uniform_location("qc_spacing"), 1, spacing);
+            gl.UniformMatrix4fv(cc.uniform_location("qc_view_proj"), 1, GL_FALSE, &vp[0][0]);
+            gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, v.cubes);
+            gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 9, v.cube_kept);
+            gl.DispatchCompute(cx, (cg + cx - 1) / cx, 1);
+            gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        }
+        const Program& cull = programs_.get(render::OcclusionKey{tri ? render::OcclusionPass::element_cull_cells : render::OcclusionPass::element_cull_tets});
+        gl.UseProgram(cull.id());
+        gl.Uniform1ui(cull.uniform_location("qc_count"), n);
+        gl.Uniform3fv(cull.uniform_location("qc_origin"), 1, origin);
+        gl.Uniform3fv(cull.uniform_location("qc_spacing"), 1, spacing);
+        gl.UniformMatrix4fv(cull.uniform_location("qc_view_proj"), 1, GL_FALSE, &vp[0][0]);
+        gl.DispatchCompute(gx, gy, 1);
+        gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        const Program& scan = programs_.get(render::OcclusionKey{render::OcclusionPass::scan});
+        gl.UseProgram(scan.id());
+        gl.Uniform1ui(scan.uniform_location("qc_group_count"), groups);
+        gl.Uniform1ui(scan.uniform_location("qc_command_at"), 0u);
+        gl.Uniform1ui(scan.uniform_location("qc_per_kept"), 1u);
+        gl.DispatchCompute(1, 1, 1);
+        gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        const Program& compact = programs_.get(render::OcclusionKey{render::OcclusionPass::element_compact});
+        gl.UseProgram(compact.id());
+        gl.Uniform1ui(compact.uniform_location("qc_count"), n);
+        gl.DispatchCompute(gx, gy, 1);
+        gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+        for (GLuint b : {3u, 5u, 6u, 7u, 8u, 9u}) gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, b, 0);
+        std::uint32_t kept = 0;
+        gl.GetNamedBufferSubData(v.count, 0, sizeof kept, &kept);
+        v.stats.elements = kept;
+        return kept;
     }
 
     void set_uniforms(const Program& p, const render::VolumeModel& m, const render::Camera& cam, const render::Light& light,
@@ -274,7 +421,7 @@ private:
         }
         const float vz_row[3] = {cam.view[0][2], cam.view[1][2], cam.view[2][2]};
         const float forward[3] = {-vz_row[0], -vz_row[1], -vz_row[2]};
-        const Mat4<float> vp = cam.projection * cam.view;
+        const Mat4<float> vp = view_proj(cam);
         const float pz[4] = {cam.projection[2][2], cam.projection[3][2], cam.projection[2][3], cam.projection[3][3]};
         gl.Uniform3fv(p.uniform_location("qc_eye_index"), 1, eye_index);
         gl.Uniform3fv(p.uniform_location("qc_eye_world"), 1, cam.eye.c);
@@ -302,6 +449,7 @@ private:
     GeneratedPrograms programs_{*api_, "quadcast::gl::IsosurfaceRenderer"};
     bool frustum_culling_ = true, tet_culling_ = true;
     CoefficientStage coeff_stage_ = CoefficientStage::vertex;
+    ElementList element_list_ = ElementList::cpu;
 };
 
 }  // namespace quadcast::gl

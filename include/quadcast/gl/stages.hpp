@@ -37,6 +37,11 @@ std::vector<StageText> program_stages(const render::SlimKey& k);
 /// a vertex and a fragment stage.
 std::vector<StageText> program_stages(const render::OcclusionKey& k);
 
+/// The compute stage of a pass of the isosurface renderer's GPU element list
+/// (OcclusionPass::element_cull_cubes, element_cull_tets, element_cull_cells, element_compact;
+/// src/gl/spline_stages.cpp).
+StageText element_list_stage(render::OcclusionPass pass);
+
 /// The compute pre-pass of the `precomputed` isosurface stages (QSS and S31): the coefficients of
 /// every drawn tetrahedron by repeated averaging.
 StageText coefficient_stage(render::VolumeScheme s);

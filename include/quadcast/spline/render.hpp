@@ -20,6 +20,8 @@
 //   orthographic: its distance from the camera plane), so `window_depth(λ, vz, pz)` applies, vz =
 //   view-space z of the world direction.
 
+#include <array>
+
 #include "quadcast/bb/bezier.hpp"
 #include "quadcast/bb/restrict.hpp"
 #include "quadcast/linalg.hpp"
@@ -76,6 +78,30 @@ CellVertex<T> cell_vertex(const Vec3<T>& c, const Vec3<T>& u, const T& s, const 
     }
     r.vz = dot(vz_row, r.dir);
     return r;
+}
+
+/// Whether a convex element (a tetrahedron or a cell box) whose corners have the clip positions
+/// c[0..7] (`cell_vertex`; a tetrahedron repeats a corner) lies wholly beyond one plane of the
+/// clip volume -w <= x, y, z <= w, every corner beyond it by more than 2^-10 (|coordinate| + |w|).
+/// In homogeneous coordinates, so it holds for corners behind the eye too: the element's points
+/// are convex combinations of its corners in clip space as well. Then no pixel of the view sees
+/// it, and no hit in it lies between the near and far planes (`depth_range_lambda`): the GPU
+/// element list leaves it out (quadcast::gl::IsosurfaceRenderer).
+/// Numerics: per plane and corner s c[i] - c.w > (|c[i]| + |c.w|) 2^-10 (s = -1, 1), each side
+/// rounded once.
+template <class T>
+mask_t<T> clip_outside(const std::array<Vec4<T>, 8>& c) {
+    mask_t<T> out = mask_t<T>(false);
+    for (int i = 0; i < 3; ++i)
+        for (int s = -1; s <= 1; s += 2) {
+            mask_t<T> all = mask_t<T>(true);
+            for (const Vec4<T>& k : c) {
+                const T d = (s < 0 ? -k[i] : k[i]) - k[3];
+                all = all && (d > (abs(k[i]) + abs(k[3])) * T(1.0 / 1024.0));
+            }
+            out = out || all;
+        }
+    return out;
 }
 
 /// The λ range of the visible depth range [0, 1] on a ray whose direction has view-space z `vz`
