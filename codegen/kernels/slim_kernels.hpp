@@ -16,10 +16,7 @@ struct SlimWeightKernel {
     static constexpr const char* name = "slim_weight";
     static constexpr const char* source = "quadcast::slim_weight (quadcast/slim_blend.hpp)";
     static constexpr const char* summary = "SLIM blending weight: Gaussian core, quadratic tail, C1, 1 at the centre, 0 on the sphere";
-    template <class IO> static void run(IO& io) {
-        using T = typename IO::T;
-        io.out("w", slim_weight(io.scalar("t")));
-    }
+    template <class IO> static void run(IO& io) { io.out("w", slim_weight(io.scalar("t"))); }
     static void generate(std::mt19937& rng, std::span<float> in) {
         std::size_t p = 0;
         put(in, p, uniform(rng, 0.0f, 1.0f) < 0.1f ? uniform(rng, 0.4999f, 0.5001f) : uniform(rng, 0.0f, 1.2f));
