@@ -428,15 +428,15 @@ public:
     void rasterise_occluders(const render::Camera& cam, int width, int height) {
         occluders_in_depth_ = false;
         if (!raster_occluders_ || count_ == 0) return;
-        const Api& gl = *api_;
         const render::OcclusionRange range = render::occlusion_range(cam);
         if (!(range.far > range.near)) return;
-        GLuint* q = nullptr;
-        if (cull_queries_used_ < static_cast<int>(std::size(cull_queries_))) {
-            q = &cull_queries_[cull_queries_used_++];
-            if (!*q) gl.GenQueries(1, q);
-            gl.BeginQuery(GL_TIME_ELAPSED, *q);
-        }
+        timed_cull([&] { draw_occluders(cam, range, width, height); });
+        occluders_in_depth_ = true;
+    }
+
+    /// The occluders' quadrilaterals of `rasterise_occluders`.
+    void draw_occluders(const render::Camera& cam, const render::OcclusionRange& range, int width, int height) {
+        const Api& gl = *api_;
         const Program& prog = programs_.get(render::OcclusionKey{render::OcclusionPass::occluder_raster});
         gl.UseProgram(prog.id());
         detail::set_camera_uniforms(gl, prog, cam, width, height);
@@ -458,13 +458,27 @@ public:
         }
         gl.ColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, 0);
-        if (q) {
-            gl.EndQuery(GL_TIME_ELAPSED);
-            GLuint64 ns = 0;
-            gl.GetQueryObjectui64v(*q, GL_QUERY_RESULT, &ns);
-            cull_ms_ += static_cast<double>(ns) * 1e-6;
+    }
+
+    /// Runs `pass` (culling work) and adds its GPU time (GL_TIME_ELAPSED, one of `cull_queries_`
+    /// while they last: the shadow map's passes and the camera's) to `cull_pass_ms`. Read at
+    /// once: the draws after it wait for it anyway, and llvmpipe's elapsed time read after the
+    /// frame also counted the draws queued behind it.
+    template <class F>
+    void timed_cull(F&& pass) {
+        const Api& gl = *api_;
+        GLuint* q = nullptr;
+        if (cull_queries_used_ < static_cast<int>(std::size(cull_queries_))) {
+            q = &cull_queries_[cull_queries_used_++];
+            if (!*q) gl.GenQueries(1, q);
+            gl.BeginQuery(GL_TIME_ELAPSED, *q);
         }
-        occluders_in_depth_ = true;
+        pass();
+        if (!q) return;
+        gl.EndQuery(GL_TIME_ELAPSED);
+        GLuint64 ns = 0;
+        gl.GetQueryObjectui64v(*q, GL_QUERY_RESULT, &ns);
+        cull_ms_ += static_cast<double>(ns) * 1e-6;
     }
 
     /// One phase of `draw_primitives`: its cull pass, then its primitives.
@@ -472,23 +486,7 @@ public:
                     const Phase& ph, const GLint (&viewport)[4]) {
         const Api& gl = *api_;
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, planes_);  // (the bounds pass reads them too; a scene pass may have unbound them)
-        if (cull_pass) {
-            GLuint* q = nullptr;
-            if (cull_queries_used_ < static_cast<int>(std::size(cull_queries_))) {  // (the shadow map's passes and the camera's)
-                q = &cull_queries_[cull_queries_used_++];
-                if (!*q) gl.GenQueries(1, q);
-                gl.BeginQuery(GL_TIME_ELAPSED, *q);
-            }
-            run_cull_pass(cam, opt, viewport[2], viewport[3], ph);
-            if (q) {
-                gl.EndQuery(GL_TIME_ELAPSED);
-                // Read now: the indirect draws wait for the cull pass anyway, and llvmpipe's elapsed
-                // time read after the frame also counted the draws queued behind it.
-                GLuint64 ns = 0;
-                gl.GetQueryObjectui64v(*q, GL_QUERY_RESULT, &ns);
-                cull_ms_ += static_cast<double>(ns) * 1e-6;
-            }
-        }
+        if (cull_pass) timed_cull([&] { run_cull_pass(cam, opt, viewport[2], viewport[3], ph); });
         // The bounding geometry (quads, tetrahedron faces) is a stand-in: the fragment stage
         // computes the depth and keeps only hits in [0, 1]. Without depth clamping GL would clip
         // the stand-in itself at the near and far planes, losing the visible part of a primitive

@@ -378,17 +378,7 @@ Stage element_cull_shader(bool tri) {
         m << box_outside_glsl("vec3(rec.xyz)", "vec3(float(k & 1), float((k >> 1) & 1), float((k >> 2) & 1))", "vec2(1.0, 1.0)", 8) << "        kept = !outside;\n";
     else
         m << "        kept = qc_cube_kept[rec.w >> 5u] != 0u;\n";
-    m << "    }\n"
-         "    qc_flags[t] = kept ? 1u : 0u;\n"
-         "    barrier();\n"
-         "    if (t == 0u) {  // exclusive prefix sum of the workgroup's flags, and its count\n"
-         "        uint run = 0u;\n"
-         "        for (uint r = 0u; r < 64u; ++r) { uint f = qc_flags[r]; qc_flags[r] = run; run += f; }\n"
-         "        qc_groups[group] = run;\n"
-         "    }\n"
-         "    barrier();\n"
-         "    if (inside) qc_keep[e] = kept ? qc_flags[t] + 1u : 0u;\n"
-         "}\n";
+    m << "    }\n" << detail::keep_flags_glsl("e") << "}\n";
     s.text = m.str();
     return s;
 }

@@ -62,4 +62,21 @@ Stage quadric_vertex_stage(bool ortho);
 /// numbers; src/gl/stages.cpp).
 extern const char* const fullscreen_vertex;
 
+/// The end of a cull pass over records in workgroups of 64 (the quadric renderer's and the
+/// isosurface element list's): from `kept` and `inside` of invocation t of workgroup `group`, the
+/// exclusive prefix sum of the workgroup's flags in shared qc_flags[64], the workgroup's count
+/// into qc_groups[group] and per record qc_keep[`record`] = 0 (culled) or 1 + the kept records
+/// before it in the workgroup (the compaction's slot).
+inline std::string keep_flags_glsl(const std::string& record) {
+    return "    qc_flags[t] = kept ? 1u : 0u;\n"
+           "    barrier();\n"
+           "    if (t == 0u) {  // exclusive prefix sum of the workgroup's flags, and its count\n"
+           "        uint run = 0u;\n"
+           "        for (uint r = 0u; r < 64u; ++r) { uint f = qc_flags[r]; qc_flags[r] = run; run += f; }\n"
+           "        qc_groups[group] = run;\n"
+           "    }\n"
+           "    barrier();\n"
+           "    if (inside) qc_keep[" + record + "] = kept ? qc_flags[t] + 1u : 0u;  // 1 + the kept records before it in the workgroup\n";
+}
+
 }  // namespace quadcast::gl::detail

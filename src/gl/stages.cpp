@@ -650,16 +650,7 @@ Stage cull_shader() {
          "    uint prim = qc_first + group * 64u + t;\n"
          "    bool inside = group * 64u + t < qc_count;\n"
          "    bool kept = inside && qc_kept(prim);\n"
-         "    qc_flags[t] = kept ? 1u : 0u;\n"
-         "    barrier();\n"
-         "    if (t == 0u) {  // exclusive prefix sum of the workgroup's flags, and its count\n"
-         "        uint run = 0u;\n"
-         "        for (uint r = 0u; r < 64u; ++r) { uint f = qc_flags[r]; qc_flags[r] = run; run += f; }\n"
-         "        qc_groups[group] = run;\n"
-         "    }\n"
-         "    barrier();\n"
-         "    if (inside) qc_keep[prim] = kept ? qc_flags[t] + 1u : 0u;  // 1 + the kept records before it in the workgroup\n"
-         "}\n";
+      << detail::keep_flags_glsl("prim") << "}\n";
     s.text = m.str();
     return s;
 }

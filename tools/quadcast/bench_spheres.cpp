@@ -150,20 +150,20 @@ void run_bounds_bench(const BoundsBenchOptions& o) {
         const render::Image culled_img = r.read();
         r.draw(cam, light, modes[1]);
         const render::Image tight_img = r.read();
-        long img_diff = 0;
-        for (std::size_t i = 0; i < culled_img.depth.size(); ++i)
-            img_diff += culled_img.depth[i] != tight_img.depth[i] || culled_img.rgba[4 * i] != tight_img.rgba[4 * i] ||
-                        culled_img.rgba[4 * i + 1] != tight_img.rgba[4 * i + 1] || culled_img.rgba[4 * i + 2] != tight_img.rgba[4 * i + 2];
+        auto differing = [](const render::Image& a, const render::Image& b) {  // pixels whose depth or colour differ
+            long n = 0;
+            for (std::size_t i = 0; i < a.depth.size(); ++i)
+                n += a.depth[i] != b.depth[i] || a.rgba[4 * i] != b.rgba[4 * i] || a.rgba[4 * i + 1] != b.rgba[4 * i + 1] || a.rgba[4 * i + 2] != b.rgba[4 * i + 2];
+            return n;
+        };
+        const long img_diff = differing(culled_img, tight_img);
         if (img_diff) std::printf("WARNING: %ld pixels differ between the culled and the unculled frame\n", img_diff);
         // Nor where the corners are computed: a compute pass's against the vertex stage's
         r.set_compute_bounds(true);
         r.draw(cam, light, modes[2]);
         const render::Image comp_img = r.read();
         r.set_compute_bounds(false);
-        long comp_diff = 0;
-        for (std::size_t i = 0; i < culled_img.depth.size(); ++i)
-            comp_diff += culled_img.depth[i] != comp_img.depth[i] || culled_img.rgba[4 * i] != comp_img.rgba[4 * i] ||
-                         culled_img.rgba[4 * i + 1] != comp_img.rgba[4 * i + 1] || culled_img.rgba[4 * i + 2] != comp_img.rgba[4 * i + 2];
+        const long comp_diff = differing(culled_img, comp_img);
         if (comp_diff) std::printf("WARNING: %ld pixels differ between corners from the compute pass and from the vertex stage\n", comp_diff);
         // Nor how the occluders reach the depth image: the rasteriser's quadrilaterals against the compute pass's disks
         r.set_raster_occluders(true);
@@ -172,10 +172,7 @@ void run_bounds_bench(const BoundsBenchOptions& o) {
         const std::size_t occ_drawn = r.drawn_primitives();
         const double occ_frag = static_cast<double>(r.fragment_invocations());
         r.set_raster_occluders(false);
-        long occ_diff = 0;
-        for (std::size_t i = 0; i < culled_img.depth.size(); ++i)
-            occ_diff += culled_img.depth[i] != occ_img.depth[i] || culled_img.rgba[4 * i] != occ_img.rgba[4 * i] ||
-                        culled_img.rgba[4 * i + 1] != occ_img.rgba[4 * i + 1] || culled_img.rgba[4 * i + 2] != occ_img.rgba[4 * i + 2];
+        const long occ_diff = differing(culled_img, occ_img);
         if (occ_diff) std::printf("WARNING: %ld pixels differ between occluders from the rasteriser and from the compute pass\n", occ_diff);
         r.set_count_fragments(false);
         r.set_fragment_stage(gl::QuadricRenderer::FragmentStage::passthrough);
