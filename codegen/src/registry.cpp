@@ -92,6 +92,8 @@ const std::vector<KernelDef>& registry() {
         make_kernel<SplineCellVertexKernel<false>>(),
         make_kernel<SplineCellVertexKernel<true>>(),
         make_kernel<ClipOutsideKernel>(),
+        make_kernel<TetOcclusionBoundKernel<false>>(),
+        make_kernel<TetOcclusionBoundKernel<true>>(),
         make_kernel<SplineFragmentKernel<2>>(),
         make_kernel<SplineFragmentKernel<3>>(),
         make_kernel<TrilinearFragmentKernel>(),

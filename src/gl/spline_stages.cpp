@@ -57,6 +57,19 @@ std::string ivec3_literal(const spline::IVec3& v) {
     return s.str();
 }
 
+/// The cube-local vertices of the 24 tetrahedra as a GLSL table `qc_tet_vertices` (4 t + k).
+std::string tet_vertex_table() {
+    std::ostringstream m;
+    m << "// Cube-local vertices of tetrahedron t (quadcast::spline::tet_vertices), positively oriented.\n"
+         "const vec3 qc_tet_vertices[" << 4 * spline::tets_per_cube << "] = vec3[](";
+    for (int t = 0; t < spline::tets_per_cube; ++t) {
+        const auto v = oriented_tet(t);
+        for (int k = 0; k < 4; ++k) m << (t == 0 && k == 0 ? "\n    " : k == 0 ? ",\n    " : ", ") << ivec3_literal(v[static_cast<std::size_t>(k)]);
+    }
+    m << ");\n";
+    return m.str();
+}
+
 /// The rotation of the determining set as a gather table (`d_rot[k] = d[qc_perm[n t + k]]`).
 std::string permutation_table(Scheme scheme) {
     const int n = spline::d_count(degree(scheme));
@@ -133,16 +146,15 @@ Stage vertex_shader(Scheme scheme, bool ortho, bool precomputed = false) {
         else
             m << "layout(std430, binding = 1) readonly buffer qc_DeterminingSets { float qc_dsets[]; };  // " << n << " per active cube\n\n"
               << permutation_table(scheme);
-        m << "// Cube-local vertices of tetrahedron t (quadcast::spline::tet_vertices), positively oriented.\n"
-             "const vec3 qc_tet_vertices[" << 4 * spline::tets_per_cube << "] = vec3[](";
-        for (int t = 0; t < spline::tets_per_cube; ++t) {
-            const auto v = oriented_tet(t);
-            for (int k = 0; k < 4; ++k) m << (t == 0 && k == 0 ? "\n    " : k == 0 ? ",\n    " : ", ") << ivec3_literal(v[static_cast<std::size_t>(k)]);
-        }
-        m << ");\n\n";
+        m << tet_vertex_table() << "\n"
+             "// The depth floors of the elements, 2 for the culled ones (`occlusion_bound_shader`), read when qc_occlusion is 1.\n"
+             "layout(std430, binding = 10) readonly buffer qc_Floors { float qc_floors[]; };\n"
+             "uniform int qc_occlusion;\n\n";
     }
     for (int i = 0; i < g.count; ++i) m << "flat out " << vec_type(g.sizes[static_cast<std::size_t>(i)]) << " qc_" << g.name << i << ";\n";
-    if (!tri) m << "flat out uint qc_tet;\n";
+    if (!tri)
+        m << "flat out uint qc_tet;\n"
+             "flat out float qc_floor;      // no hit in the tetrahedron is nearer (occlusion test)\n";
     m << "out vec3 qc_o;\n" << oq << "out float qc_w;\n" << vq << "out vec3 qc_v;\n" << vq << "out vec3 qc_dir;\n" << vq << "out float qc_vz;\n\n";
     m << fns.str();
     const int per = tri ? 8 : 4;
@@ -164,7 +176,13 @@ Stage vertex_shader(Scheme scheme, bool ortho, bool precomputed = false) {
              "    vec2 scale = vec2(1.0, 1.0);\n";
     } else {
         m << "    uint slot = rec.w >> 5u;\n"
-             "    int t = int(rec.w & 31u);\n";
+             "    int t = int(rec.w & 31u);\n"
+             "    // Occlusion culling: an element hidden behind what the earlier phases drew goes outside the clip volume\n"
+             "    qc_floor = qc_occlusion != 0 ? qc_floors[e] : 0.0;\n"
+             "    if (qc_floor > 1.0) {\n"
+             "        gl_Position = vec4(2.0, 2.0, 2.0, 1.0);\n"
+             "        return;\n"
+             "    }\n";
         if (precomputed) {
             const int nc = bb::coefficient_count(degree(scheme));
             for (int i = 0; i < g.count; ++i) {
@@ -177,6 +195,7 @@ Stage vertex_shader(Scheme scheme, bool ortho, bool precomputed = false) {
             m << averaging_call(scheme, "qc_c");
         }
         m << "    qc_tet = uint(t);\n"
+
              "    vec3 offset = qc_tet_vertices[4 * t + k];\n"
              "    vec2 scale = vec2(0.5, 2.0);\n";
     }
@@ -224,7 +243,11 @@ Stage fragment_shader(Scheme scheme, bool ortho, bool gbuffer) {
     }
     m << "\n";
     for (int i = 0; i < g.count; ++i) m << "flat in " << vec_type(g.sizes[static_cast<std::size_t>(i)]) << " qc_" << g.name << i << ";\n";
-    if (!tri) m << "flat in uint qc_tet;\n";
+    if (!tri)
+        m << "flat in uint qc_tet;\n"
+             "flat in float qc_floor;\n"
+             "uniform int qc_occlusion;                // 1: test qc_floor against qc_drawn_depth\n"
+             "uniform sampler2D qc_drawn_depth;        // the window depth the earlier phases drew\n";
     m << "in vec3 qc_o;\n" << oq << "in float qc_w;\n" << vq << "in vec3 qc_v;\n" << vq << "in vec3 qc_dir;\n" << vq << "in float qc_vz;\n";
     if (gbuffer)
         m << "layout(location = 0) out vec4 qc_gnormal;  // normal (unnormalised), window depth\n"
@@ -233,8 +256,11 @@ Stage fragment_shader(Scheme scheme, bool ortho, bool gbuffer) {
     else
         m << "layout(location = 0) out vec4 qc_color_out;\n\n";
     m << fns.str();
-    m << "void main()\n{\n"
-         "    bool hit;\n    float depth;\n    vec3 n;\n"
+    m << "void main()\n{\n";
+    if (!tri)
+        m << "    // Occlusion: every hit here would lie behind what the earlier phases drew (the depth test would drop it)\n"
+             "    if (qc_occlusion != 0 && qc_floor > texelFetch(qc_drawn_depth, ivec2(gl_FragCoord.xy), 0).r) discard;\n";
+    m << "    bool hit;\n    float depth;\n    vec3 n;\n"
          "    qc_" << kernel << "(";
     for (int i = 0; i < g.count; ++i) m << "qc_" << g.name << i << ", ";
     if (!tri) m << "qc_rotations[qc_tet], ";
@@ -283,6 +309,70 @@ Stage coefficient_shader(Scheme scheme) {
         for (int j = 0; j < g.sizes[static_cast<std::size_t>(i)]; ++j)
             m << "    qc_coeffs[" << nc << "u * e + " << 4 * i + j << "u] = c" << i << "." << "xyzw"[j] << ";\n";
     m << "}\n";
+    s.text = m.str();
+    return s;
+}
+
+/// Occlusion culling, pass 1 of a later phase: level 0 of the max-depth pyramid, the window
+/// depths of the copy of the depth buffer (viewport region) as uint bits (non-negative floats
+/// order as their bits do); the quadric renderer's pyramid pass (OcclusionPass::pyramid) makes
+/// the levels above.
+const char* pyramid_base_shader =
+    "layout(local_size_x = 8, local_size_y = 8) in;\n\n"
+    "layout(std430, binding = 3) writeonly buffer qc_Depths { uint qc_depth[]; };\n"
+    "uniform sampler2D qc_drawn_depth;  // the copy of the depth buffer\n"
+    "uniform ivec4 qc_viewport_rect;    // x, y, width, height\n\n"
+    "void main()\n{\n"
+    "    ivec2 t = ivec2(gl_GlobalInvocationID.xy);\n"
+    "    if (t.x >= qc_viewport_rect.z || t.y >= qc_viewport_rect.w) return;\n"
+    "    float d = texelFetch(qc_drawn_depth, qc_viewport_rect.xy + t, 0).r;\n"
+    "    qc_depth[t.y * qc_viewport_rect.z + t.x] = floatBitsToUint(max(d, 0.0));\n"
+    "}\n";
+
+/// Occlusion culling, pass 2 of a later phase: per element (relevant tetrahedron) of the phase
+/// its `tet_occlusion_bound`; an element whose rectangle holds pixels (`pixel_span`, grown by a
+/// pixel for the rasteriser's snapping) all of whose drawn depths (the pyramid level where they
+/// span at most 4 x 4 texels) lie nearer than its floor is culled (qc_floors 2: the vertex stage
+/// moves it outside the clip volume), else qc_floors = its floor, which the fragment stage tests
+/// against the depth drawn at its pixel.
+Stage occlusion_bound_shader(bool ortho) {
+    Stage s;
+    std::ostringstream fns;
+    const std::string proj = ortho ? "ortho" : "perspective";
+    add_kernel(s, fns, "tet_occlusion_bound_" + proj);
+    add_kernel(s, fns, "pixel_span");
+    std::ostringstream m;
+    m << "layout(local_size_x = 64) in;\n\n"
+      << vertex_uniforms
+      << "layout(std430, binding = 3) readonly buffer qc_Depths { uint qc_depth[]; };  // the max-depth pyramid\n"
+         "layout(std430, binding = 10) writeonly buffer qc_Floors { float qc_floors[]; };\n"
+         "uniform uint qc_count;        // the phase's elements, from qc_first on\n"
+         "uniform vec4 qc_pz;           // P22, P32, P23, P33 of the projection\n"
+         "uniform float qc_pixel;       // a pixel's angle (perspective) or world width (orthographic): 2 / (P11 height)\n"
+         "uniform vec2 qc_viewport;     // width, height\n"
+         "uniform uvec3 qc_levels[16];  // offset, width, height of each pyramid level\n"
+         "uniform int qc_level_count;\n\n"
+      << tet_vertex_table() << "\n" << fns.str() << detail::pyramid_farthest_glsl
+      << "void main()\n{\n"
+         "    uint i = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * 64u + gl_LocalInvocationID.x;\n"
+         "    if (i >= qc_count) return;\n"
+         "    uint e = qc_first + i;\n"
+         "    uvec4 rec = qc_elements[e];\n"
+         "    int t = int(rec.w & 31u);\n"
+         "    float floor_depth;\n    vec2 lo, hi;\n    bool visible;\n"
+         "    qc_tet_occlusion_bound_" << proj << "(vec3(rec.xyz), qc_tet_vertices[4 * t], qc_tet_vertices[4 * t + 1], qc_tet_vertices[4 * t + 2], qc_tet_vertices[4 * t + 3],\n"
+         "        qc_eye_index, qc_eye_world, qc_forward_world, qc_origin, qc_spacing, qc_view_proj, qc_vz_row, qc_pz, qc_pixel, floor_depth, lo, hi, visible);\n"
+         "    bool culled = false;\n"
+         "    if (visible && floor_depth > 0.0 && all(lessThan(abs(vec4(lo, hi)), vec4(64.0)))) {\n"
+         "        vec4 span;\n"
+         "        qc_pixel_span(lo, hi, qc_viewport, span);\n"
+         "        // a pixel more on each side: the rasteriser snaps the corners to its sub-pixel grid\n"
+         "        span = vec4(max(span.xy - 1.0, vec2(0.0)), min(span.zw + 1.0, qc_viewport - 1.0));\n"
+         "        if (span.x > span.z || span.y > span.w) culled = true;  // no pixel of the viewport\n"
+         "        else culled = floor_depth > uintBitsToFloat(qc_pyramid_farthest(uvec4(span)));  // behind what is drawn over all its pixels\n"
+         "    }\n"
+         "    qc_floors[e] = culled ? 2.0 : floor_depth;\n"
+         "}\n";
     s.text = m.str();
     return s;
 }
@@ -452,6 +542,18 @@ StageText element_list_stage(render::OcclusionPass pass) {
     default:
         throw std::invalid_argument("quadcast::gl::element_list_stage: not a pass of the element list");
     }
+}
+
+StageText occlusion_bound_stage(bool ortho) {
+    return stage_text(StageText::Kind::compute, std::string("qc_iso_occlusion_bounds_") + (ortho ? "ortho" : "perspective") + ".comp", occlusion_bound_shader(ortho),
+                      std::string("isosurface renderer, occlusion culling: each tetrahedron of a phase culled against the max-depth pyramid, else its depth floor, ") +
+                          (ortho ? "orthographic" : "perspective") + " camera");
+}
+
+StageText pyramid_base_stage() {
+    Stage p;
+    p.text = pyramid_base_shader;
+    return stage_text(StageText::Kind::compute, "qc_iso_pyramid_base.comp", p, "isosurface renderer, occlusion culling: level 0 of the max-depth pyramid from the copy of the depth buffer");
 }
 
 StageText coefficient_stage(Scheme scheme) {

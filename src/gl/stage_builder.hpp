@@ -67,6 +67,21 @@ extern const char* const fullscreen_vertex;
 /// exclusive prefix sum of the workgroup's flags in shared qc_flags[64], the workgroup's count
 /// into qc_groups[group] and per record qc_keep[`record`] = 0 (culled) or 1 + the kept records
 /// before it in the workgroup (the compaction's slot).
+/// GLSL of the max-depth pyramid lookup of the cull passes: `qc_pyramid_farthest(b)`, the largest
+/// value over the pixels b = (x0, y0, x1, y1) (inclusive) read from the lowest level where they
+/// span at most 4 x 4 texels; the stage declares qc_depth[] (the levels packed), qc_levels[16]
+/// (offset, width, height per level) and qc_level_count.
+inline const char* pyramid_farthest_glsl =
+    "uint qc_pyramid_farthest(uvec4 b)\n{\n"
+    "    int level = 0;\n"
+    "    while (level + 1 < qc_level_count && ((b.z >> level) - (b.x >> level) > 3u || (b.w >> level) - (b.y >> level) > 3u)) ++level;\n"
+    "    uvec3 l = qc_levels[level];\n"
+    "    uint farthest = 0u;\n"
+    "    for (uint y = b.y >> level; y <= (b.w >> level); ++y)\n"
+    "        for (uint x = b.x >> level; x <= (b.z >> level); ++x) farthest = max(farthest, qc_depth[l.x + y * l.y + x]);\n"
+    "    return farthest;\n"
+    "}\n\n";
+
 inline std::string keep_flags_glsl(const std::string& record) {
     return "    qc_flags[t] = kept ? 1u : 0u;\n"
            "    barrier();\n"

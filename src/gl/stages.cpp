@@ -609,7 +609,7 @@ Stage cull_shader() {
          "// Phased drawing: this pass keeps only the records whose nearest view distance lies in the\n"
          "// phase's window [lo, hi) (the first phase from -infinity, NaN included; the last to +infinity).\n"
          "uniform bool qc_windowed;\nuniform vec2 qc_window;\nuniform bool qc_window_first, qc_window_last;\n\n"
-      << fns.str()
+      << fns.str() << detail::pyramid_farthest_glsl
       << "bool qc_kept(uint prim)\n{\n"
          "    qc_Primitive p = qc_prims[prim];\n"
          "    mat4 q = qc_record_quadric(p);\n"
@@ -630,13 +630,7 @@ Stage cull_shader() {
          "        qc_pixel_span(lo, hi, qc_viewport, span);\n"
          "        if (span.x > span.z || span.y > span.w) { atomicAdd(qc_command[qc_stats_at], 1u); return false; }  // no pixel centre of the viewport\n"
          "        if (qc_occlusion && nearest > 0.0) {\n"
-         "            uvec4 b = uvec4(span);\n"
-         "            int level = 0;\n"
-         "            while (level + 1 < qc_level_count && ((b.z >> level) - (b.x >> level) > 3u || (b.w >> level) - (b.y >> level) > 3u)) ++level;\n"
-         "            uvec3 l = qc_levels[level];\n"
-         "            uint farthest = 0u;\n"
-         "            for (uint y = b.y >> level; y <= (b.w >> level); ++y)\n"
-         "                for (uint x = b.x >> level; x <= (b.z >> level); ++x) farthest = max(farthest, qc_depth[l.x + y * l.y + x]);\n"
+         "            uint farthest = qc_pyramid_farthest(uvec4(span));\n"
          "            if (floatBitsToUint(nearest) > farthest) { atomicAdd(qc_command[qc_stats_at + 1u], 1u); return false; }  // behind every occluder over its pixels\n"
          "        }\n"
          "    }\n"

@@ -209,7 +209,7 @@ void run(const IsoBenchOptions& a) {
     o.width = a.width;
     o.height = a.height;
 
-    std::printf("%-10s %10s %12s %14s %12s %14s %12s %10s\n", "scheme", "prep ms", "active cubes", "elements", "GL ms", "GL pre-pass", "CPU ms", "CPU/GL");
+    std::printf("%-10s %10s %12s %14s %12s %14s %16s %12s %10s\n", "scheme", "prep ms", "active cubes", "elements", "GL ms", "GL pre-pass", "GL no occlusion", "CPU ms", "CPU/GL");
     const render::VolumeScheme schemes[3] = {render::VolumeScheme::qss, render::VolumeScheme::s31, render::VolumeScheme::trilinear};
     std::vector<render::VolumeModel> models;
     models.reserve(3);
@@ -226,11 +226,14 @@ void run(const IsoBenchOptions& a) {
         gl.frame(cam, light, o);  // warm-up: compiles the programs
         gl.iso.set_coefficient_stage(Stage::vertex);
         gl.frame(cam, light, o);
-        std::vector<double> g, gc, c;
+        render::RenderOptions no_occl = o;
+        no_occl.occlusion_culling = false;
+        std::vector<double> g, gc, gn, c;
         for (int i = 0; i < a.frames; ++i) {
             gl.iso.set_coefficient_stage(Stage::vertex);
             g.push_back(gl.frame(cam, light, o));
             if (s == render::VolumeScheme::trilinear) continue;
+            gn.push_back(gl.frame(cam, light, no_occl));
             gl.iso.set_coefficient_stage(Stage::compute);
             gc.push_back(gl.frame(cam, light, o));
         }
@@ -246,23 +249,26 @@ void run(const IsoBenchOptions& a) {
             render::write_png(stem + "_cpu.png", render::render_volumes_cpu({&m}, cam, light, o));
         }
         const gl::IsoDrawStats& st = gl.iso.stats(0);
-        char pre[32] = "-";
+        char pre[32] = "-", nocc[32] = "-";
         if (!gc.empty()) std::snprintf(pre, sizeof pre, "%.1f (%.2fx)", median(gc), median(g) / median(gc));
-        std::printf("%-10s %10.0f %12zu %14zu %12.1f %14s %12.1f %9.1fx\n", render::volume_scheme_name(s), prep, m.active, st.elements, median(g), pre,
-                    median(c), median(c) / median(g));
+        if (!gn.empty()) std::snprintf(nocc, sizeof nocc, "%.1f (%.2fx)", median(gn), median(gn) / median(g));
+        std::printf("%-10s %10.0f %12zu %14zu %12.1f %14s %16s %12.1f %9.1fx\n", render::volume_scheme_name(s), prep, m.active, st.elements, median(g), pre,
+                    nocc, median(c), median(c) / median(g));
     }
 
     std::printf("\nWhat is skipped (QSS; cubes of the whole grid; frame times interleaved, ratios to all culling on):\n");
-    std::printf("%-9s %10s %14s %12s %14s %14s %14s %12s %14s %14s %14s\n", "view", "cubes", "range has rho", "in frustum", "tets drawn", "tets (GPU)", "tets (no test)",
-                "all on ms", "no frustum", "no tet test", "GPU list");
+    std::printf("%-9s %10s %14s %12s %14s %14s %14s %12s %14s %14s %14s %14s %14s\n", "view", "cubes", "range has rho", "in frustum", "tets drawn", "tets (GPU)", "tets (no test)",
+                "all on ms", "no frustum", "no tet test", "GPU list", "occluded", "no occlusion");
     const render::VolumeModel& m = models[0];
     gl.iso.clear();
     gl.iso.add_volume(m);
     const std::size_t cubes = static_cast<std::size_t>(m.nx) * m.ny * m.nz;
     for (double dist : {2.4, 0.8}) {
         const render::Camera cam = view_of(m, dist, a.width, a.height);
-        std::vector<double> t_on, t_nofr, t_notet, t_gpu;
+        std::vector<double> t_on, t_nofr, t_notet, t_gpu, t_noocc;
         gl::IsoDrawStats on{}, nofr{}, notet{}, on_gpu{};
+        render::RenderOptions no_occl = o;
+        no_occl.occlusion_culling = false;
         using List = gl::IsosurfaceRenderer::ElementList;
         for (int i = 0; i < a.frames; ++i) {
             gl.iso.set_frustum_culling(true);
@@ -274,7 +280,7 @@ void run(const IsoBenchOptions& a) {
             gl.iso.set_frustum_culling(true);
             gl.iso.set_tetrahedron_culling(true);
             t_on.push_back(gl.frame(cam, light, o));
-            on = gl.iso.stats(0);
+            t_noocc.push_back(gl.frame(cam, light, no_occl));
             gl.iso.set_frustum_culling(false);
             t_nofr.push_back(gl.frame(cam, light, o));
             nofr = gl.iso.stats(0);
@@ -284,10 +290,21 @@ void run(const IsoBenchOptions& a) {
             notet = gl.iso.stats(0);
         }
         gl.iso.set_tetrahedron_culling(true);
+        gl.iso.set_count_occluded(true);  // (one more frame, not timed: the culled count, and the image against the unculled one)
+        gl.frame(cam, light, o);
+        on = gl.iso.stats(0);
+        gl.iso.set_count_occluded(false);
+        const render::Image img_on = gl.quadrics.read();
+        gl.frame(cam, light, no_occl);
+        const Diff od = image_diff(img_on, gl.quadrics.read());
+        if (od.coverage != 0 || od.depth != 0 || od.colour != 0)
+            std::printf("occlusion culling changed the %s image: %ld coverage, %ld colour differences, max depth difference %.2g\n", dist > 1 ? "whole" : "close-up",
+                        od.coverage, od.colour, od.depth);
         const double base = median(t_on);
-        std::printf("%-9s %10zu %8zu %4.1f%% %6zu %4.1f%% %14zu %14zu %14zu %12.1f %8.1f %4.2fx %8.1f %4.2fx %8.1f %4.2fx\n", dist > 1 ? "whole" : "close-up", cubes,
+        std::printf("%-9s %10zu %8zu %4.1f%% %6zu %4.1f%% %14zu %14zu %14zu %12.1f %8.1f %4.2fx %8.1f %4.2fx %8.1f %4.2fx %7zu %5.1f%% %8.1f %4.2fx\n", dist > 1 ? "whole" : "close-up", cubes,
                     on.active, 100.0 * double(on.active) / double(cubes), on.visible, 100.0 * double(on.visible) / double(on.active), on.elements, on_gpu.elements,
-                    notet.elements, base, median(t_nofr), median(t_nofr) / base, median(t_notet), median(t_notet) / base, median(t_gpu), median(t_gpu) / base);
+                    notet.elements, base, median(t_nofr), median(t_nofr) / base, median(t_notet), median(t_notet) / base, median(t_gpu), median(t_gpu) / base,
+                    on.occluded, 100.0 * double(on.occluded) / double(std::max<std::size_t>(1, on.elements)), median(t_noocc), median(t_noocc) / base);
         (void)nofr;
     }
     compare_qss_methods(gl, m, light, o, a);
@@ -295,7 +312,9 @@ void run(const IsoBenchOptions& a) {
     std::printf("(range has rho: the octree keeps the cubes whose coefficient range contains the isovalue; in frustum: of these, the ones\n"
                 " whose box is not outside the view; tets drawn: relevant tetrahedra of those cubes; tets (GPU): the relevant tetrahedra the GPU\n"
                 " element list keeps (each cube's box tested on the GPU); no test: all 24 per cube; GPU list: the frame with the element list\n"
-                " built on the GPU (IsosurfaceRenderer::ElementList::gpu) instead of the octree's uploaded from the CPU, and its ratio)\n");
+                " built on the GPU (IsosurfaceRenderer::ElementList::gpu) instead of the octree's uploaded from the CPU, and its ratio;\n"
+                " occluded: tetrahedra of the later occlusion phases culled behind the earlier ones, and their share of those drawn;\n"
+                " no occlusion: the frame with occlusion culling off, and its ratio; GL no occlusion likewise)\n");
 }
 
 }  // namespace

@@ -282,7 +282,9 @@ int run_render(const RenderArgs& a) {
             if (gl::has_extension(ctx->api(), "GL_ARB_pipeline_statistics_query")) {
                 // One more frame with the fragment count (not timed).
                 r.set_count_fragments(true);
+                iso.set_count_occluded(true);
                 r.draw(fr.camera, fr.light, fr.options);
+                iso.set_count_occluded(false);
                 r.set_count_fragments(false);
                 const render::Image shown = r.read();
                 const auto visible = std::count_if(shown.depth.begin(), shown.depth.end(), [](float d) { return d < 1.0f; });
@@ -292,9 +294,11 @@ int run_render(const RenderArgs& a) {
             }
             for (std::size_t i = 0; i < iso.volume_count(); ++i) {
                 const gl::IsoDrawStats& s = iso.stats(i);
-                std::printf("%s: volume %zu (%s): %zu active cubes, %zu in the view frustum, %zu of %zu %s drawn\n", a.scene.c_str(), i,
+                std::printf("%s: volume %zu (%s): %zu active cubes, %zu in the view frustum, %zu of %zu %s drawn in %d phase(s)", a.scene.c_str(), i,
                             render::volume_scheme_name(volumes[i].scheme), s.active, s.visible, s.elements, s.relevant,
-                            volumes[i].scheme == render::VolumeScheme::trilinear ? "cells" : "relevant tetrahedra");
+                            volumes[i].scheme == render::VolumeScheme::trilinear ? "cells" : "relevant tetrahedra", s.phases);
+                if (s.phases > 1) std::printf(", %zu of them culled behind the earlier phases", s.occluded);
+                std::printf("\n");
             }
         }
         if (a.frames > 0) timer.phase("frames");

@@ -11,6 +11,11 @@
 // - Vertex stage (traced): the tetrahedron's BB-coefficients by repeated averaging from the
 //   determining set seen from that tetrahedron (or, optionally, read from a compute pre-pass that
 //   runs the same averaging once per tetrahedron), the vertex's clip position and the ray terms.
+// - Occlusion culling (RenderOptions::occlusion_culling, occlusion_phases; QSS and S31): the cubes
+//   nearest first, the tetrahedra in phases; before each later phase a copy of the depth buffer,
+//   its max-depth pyramid and per tetrahedron `spline::tet_occlusion_bound` (compute): hidden ones
+//   leave the clip volume in the vertex stage, the others' fragments behind the copied depth are
+//   discarded before they cast. The same picture, bit for bit.
 // - Fragment stage (traced): the interpolated ray is rotated into T_0, clipped by barycentric
 //   coordinates, restricted to a univariate BB-form by blossoming, its first root gives the hit;
 //   depth, normal; forward Blinn-Phong or the quadric renderer's geometry buffer (deferred,
@@ -41,6 +46,8 @@ struct IsoDrawStats {
     std::size_t elements = 0;        ///< tetrahedra / cells drawn
     std::size_t relevant = 0;        ///< relevant tetrahedra / active cells of the whole volume
     std::size_t nodes_visited = 0;   ///< octree nodes tested
+    int phases = 0;                  ///< phases drawn (occlusion culling: each later one tested against the earlier ones' depth)
+    std::size_t occluded = 0;        ///< elements of the later phases culled behind the earlier ones (counted with `set_count_occluded`)
 };
 
 /// Draws the isosurfaces of prepared volumes (`render::prepare_volume`, with or without CPU
@@ -51,6 +58,9 @@ public:
     ~IsosurfaceRenderer() override {
         for (Volume& v : volumes_) release(v);
         api_->DeleteVertexArrays(1, &vao_);
+        if (drawn_fbo_) api_->DeleteFramebuffers(1, &drawn_fbo_);
+        if (drawn_tex_) api_->DeleteTextures(1, &drawn_tex_);
+        if (pyramid_) api_->DeleteBuffers(1, &pyramid_);
     }
     IsosurfaceRenderer(const IsosurfaceRenderer&) = delete;
     IsosurfaceRenderer& operator=(const IsosurfaceRenderer&) = delete;
@@ -83,6 +93,9 @@ public:
     /// 36 B per relevant element on the GPU against 16 B per drawn one.
     enum class ElementList { gpu, cpu };
     void set_element_list(ElementList l) { element_list_ = l; }
+    /// Counts IsoDrawStats::occluded (reads the culling results back: a test and benchmark switch).
+    void set_count_occluded(bool on) { count_occluded_ = on; }
+
     /// Elements per draw call (default and upper limit 65536, the index buffer's size; at least
     /// 1). A test switch: smaller batches give the same picture.
     void set_batch_elements(std::size_t n) {
@@ -161,7 +174,8 @@ public:
 private:
     struct Volume {
         const render::VolumeModel* model = nullptr;
-        GLuint data = 0, elements = 0, indices = 0, coeffs = 0;
+        GLuint data = 0, elements = 0, indices = 0, coeffs = 0, floors = 0;
+        std::size_t floor_capacity = 0;  ///< elements `floors` holds
         std::size_t index_capacity = 0;  ///< elements the index buffer covers
         std::size_t relevant = 0;
         IsoDrawStats stats;
@@ -184,7 +198,8 @@ private:
     }
 
     void release(Volume& v) {
-        for (GLuint* b : {&v.data, &v.elements, &v.indices, &v.coeffs, &v.all, &v.listed, &v.keep, &v.groups, &v.count, &v.cubes, &v.cube_kept}) {
+        v.floor_capacity = 0;
+        for (GLuint* b : {&v.data, &v.elements, &v.indices, &v.coeffs, &v.floors, &v.all, &v.listed, &v.keep, &v.groups, &v.count, &v.cubes, &v.cube_kept}) {
             if (*b) api_->DeleteBuffers(1, b);
             *b = 0;
         }
@@ -210,8 +225,29 @@ private:
         const render::VolumeModel& m = *v.model;
         const spline::Frustum f = spline::frustum_from_clip_matrix(index_clip_matrix(cam, m));
         std::size_t visited = 0;
-        const std::vector<int> cubes = m.octree.active_cubes(m.iso, frustum_culling_ ? &f : nullptr, &visited);
+        std::vector<int> cubes = m.octree.active_cubes(m.iso, frustum_culling_ ? &f : nullptr, &visited);
+        if (m.scheme != render::VolumeScheme::trilinear) order_by_view_depth(cubes, m, cam);
         return expand(v, cubes, visited);
+    }
+
+    /// Spline cubes ordered by the view depth of their centres, nearest first (ties by index): the
+    /// order of the phases of occlusion culling, and of the draw whether it culls or not (where two
+    /// elements hit a pixel at exactly the same depth, the first drawn keeps it). The GPU list keeps
+    /// the octree's order.
+    static void order_by_view_depth(std::vector<int>& cubes, const render::VolumeModel& m, const render::Camera& cam) {
+        const int nx = m.octree.level(0).nx, ny = m.octree.level(0).ny;
+        double row[4];
+        for (int a = 0; a < 4; ++a) row[a] = double(cam.view[a][2]);
+        std::vector<std::pair<double, int>> keyed;
+        keyed.reserve(cubes.size());
+        for (int c : cubes) {
+            const double p[3] = {double(c % nx), double((c / nx) % ny), double(c / (nx * ny))};
+            double z = row[3];
+            for (int a = 0; a < 3; ++a) z += row[a] * (m.origin[a] + m.spacing[a] * p[a]);
+            keyed.emplace_back(-z, c);
+        }
+        std::sort(keyed.begin(), keyed.end());
+        for (std::size_t i = 0; i < cubes.size(); ++i) cubes[i] = keyed[i].second;
     }
 
     /// The records of the elements of `cubes` (octree order), and the frame's statistics.
@@ -263,6 +299,119 @@ private:
         v.index_capacity = cap;
     }
 
+    /// The phases of a frame's n elements (RenderOptions::occlusion_phases, as the quadric
+    /// renderer's phased drawing): phase k ends at (2^(k+1) - 1) / (2^p - 1) of them, nearest
+    /// first (the CPU list is ordered by the cubes' view depth); one phase without occlusion
+    /// culling, for trilinear cells, or for fewer than 4096 elements.
+    static std::vector<std::size_t> phase_ends(std::size_t n, int phases) {
+        std::vector<std::size_t> ends;
+        const int p = n < 4096 ? 1 : std::clamp(phases, 1, 8);
+        const double all = double((1u << p) - 1);
+        for (int k = 0; k + 1 < p; ++k) ends.push_back(static_cast<std::size_t>(double(n) * double((2u << k) - 1) / all));
+        ends.push_back(n);
+        return ends;
+    }
+
+    /// The occlusion test's copy of the bound framebuffer's depth (viewport region) into
+    /// `drawn_tex_`, bound to texture unit `drawn_unit`; false (no test) when the depth buffer
+    /// cannot be copied: no depth attachment, multisampling, or a format other than 32-bit float or
+    /// 24-bit normalised depth.
+    bool copy_drawn_depth() {
+        const Api& gl = *api_;
+        GLint fbo = 0, vp[4] = {0, 0, 0, 0}, samples = 0;
+        gl.GetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &fbo);
+        gl.GetIntegerv(GL_VIEWPORT, vp);
+        gl.GetIntegerv(GL_SAMPLES, &samples);
+        if (samples > 0 || vp[2] <= 0 || vp[3] <= 0) return false;
+        GLint type = GL_NONE, size = 0, comp = GL_NONE, stencil = 0;
+        const GLenum att = fbo ? GL_DEPTH_ATTACHMENT : GL_DEPTH;
+        gl.GetFramebufferAttachmentParameteriv(GL_DRAW_FRAMEBUFFER, att, GL_FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE, &type);
+        if (type == GL_NONE) return false;
+        gl.GetFramebufferAttachmentParameteriv(GL_DRAW_FRAMEBUFFER, att, GL_FRAMEBUFFER_ATTACHMENT_DEPTH_SIZE, &size);
+        gl.GetFramebufferAttachmentParameteriv(GL_DRAW_FRAMEBUFFER, att, GL_FRAMEBUFFER_ATTACHMENT_COMPONENT_TYPE, &comp);
+        GLint stencil_type = GL_NONE;
+        const GLenum satt = fbo ? GL_STENCIL_ATTACHMENT : GL_STENCIL;
+        gl.GetFramebufferAttachmentParameteriv(GL_DRAW_FRAMEBUFFER, satt, GL_FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE, &stencil_type);
+        if (stencil_type != GL_NONE) gl.GetFramebufferAttachmentParameteriv(GL_DRAW_FRAMEBUFFER, satt, GL_FRAMEBUFFER_ATTACHMENT_STENCIL_SIZE, &stencil);
+        GLenum format = GL_NONE;
+        if (size == 32 && comp == GL_FLOAT) format = stencil ? GL_DEPTH32F_STENCIL8 : GL_DEPTH_COMPONENT32F;
+        else if (size == 24 && comp == GL_UNSIGNED_NORMALIZED) format = stencil ? GL_DEPTH24_STENCIL8 : GL_DEPTH_COMPONENT24;
+        if (format == GL_NONE) return false;
+        const GLint w = vp[0] + vp[2], h = vp[1] + vp[3];
+        if (!drawn_tex_ || w != drawn_w_ || h != drawn_h_ || format != drawn_format_) {
+            if (drawn_tex_) gl.DeleteTextures(1, &drawn_tex_);
+            if (!drawn_fbo_) gl.CreateFramebuffers(1, &drawn_fbo_);
+            gl.CreateTextures(GL_TEXTURE_2D, 1, &drawn_tex_);
+            gl.TextureStorage2D(drawn_tex_, 1, format, w, h);
+            gl.TextureParameteri(drawn_tex_, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+            gl.TextureParameteri(drawn_tex_, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+            gl.NamedFramebufferTexture(drawn_fbo_, stencil ? GL_DEPTH_STENCIL_ATTACHMENT : GL_DEPTH_ATTACHMENT, drawn_tex_, 0);
+            gl.NamedFramebufferDrawBuffer(drawn_fbo_, GL_NONE);
+            gl.NamedFramebufferReadBuffer(drawn_fbo_, GL_NONE);
+            drawn_w_ = w;
+            drawn_h_ = h;
+            drawn_format_ = format;
+        }
+        gl.BlitNamedFramebuffer(static_cast<GLuint>(fbo), drawn_fbo_, vp[0], vp[1], w, h, vp[0], vp[1], w, h, GL_DEPTH_BUFFER_BIT, GL_NEAREST);
+        gl.BindTextureUnit(drawn_unit, drawn_tex_);
+        return true;
+    }
+
+    /// Occlusion culling of a later phase (after `copy_drawn_depth`): the max-depth pyramid of the
+    /// copy (`pyramid_`), then each of the phase's `count` elements from `first` on culled against
+    /// it or given its depth floor (`floors`). False when the viewport is too large for 16 levels.
+    bool cull_phase(Volume& v, const render::Camera& cam, const render::Light& light, const render::RenderOptions& opt, std::size_t first, std::size_t count) {
+        const Api& gl = *api_;
+        GLint vp[4] = {0, 0, 0, 0};
+        gl.GetIntegerv(GL_VIEWPORT, vp);
+        GLuint levels[16][3];
+        std::size_t texels = 0;
+        int level_count = 0;
+        for (GLuint w = GLuint(vp[2]), h = GLuint(vp[3]);; w = (w + 1) / 2, h = (h + 1) / 2) {
+            if (level_count == 16) return false;
+            levels[level_count][0] = static_cast<GLuint>(texels);
+            levels[level_count][1] = w;
+            levels[level_count][2] = h;
+            texels += std::size_t(w) * h;
+            ++level_count;
+            if (w == 1 && h == 1) break;
+        }
+        if (texels > pyramid_texels_) {
+            if (!pyramid_) gl.GenBuffers(1, &pyramid_);
+            gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, pyramid_);
+            gl.BufferData(GL_SHADER_STORAGE_BUFFER, static_cast<GLsizeiptr>(texels * sizeof(GLuint)), nullptr, GL_DYNAMIC_COPY);
+            gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
+            pyramid_texels_ = texels;
+        }
+        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, pyramid_);
+        const Program& base = programs_.pyramid_base();
+        gl.UseProgram(base.id());
+        gl.Uniform1i(base.uniform_location("qc_drawn_depth"), static_cast<GLint>(drawn_unit));
+        gl.Uniform4i(base.uniform_location("qc_viewport_rect"), vp[0], vp[1], vp[2], vp[3]);
+        gl.DispatchCompute((GLuint(vp[2]) + 7) / 8, (GLuint(vp[3]) + 7) / 8, 1);
+        const Program& pyr = programs_.get(render::OcclusionKey{render::OcclusionPass::pyramid});
+        gl.UseProgram(pyr.id());
+        for (int l = 1; l < level_count; ++l) {
+            gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+            gl.Uniform3ui(pyr.uniform_location("qc_src"), levels[l - 1][0], levels[l - 1][1], levels[l - 1][2]);
+            gl.Uniform3ui(pyr.uniform_location("qc_dst"), levels[l][0], levels[l][1], levels[l][2]);
+            gl.DispatchCompute((levels[l][1] + 7) / 8, (levels[l][2] + 7) / 8, 1);
+        }
+        gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        const Program& cp = programs_.occlusion_bounds(cam.orthographic);
+        gl.UseProgram(cp.id());
+        set_uniforms(cp, *v.model, cam, light, opt);
+        gl.Uniform1ui(cp.uniform_location("qc_first"), static_cast<GLuint>(first));
+        gl.Uniform1ui(cp.uniform_location("qc_count"), static_cast<GLuint>(count));
+        gl.Uniform2f(cp.uniform_location("qc_viewport"), float(vp[2]), float(vp[3]));
+        gl.Uniform3uiv(cp.uniform_location("qc_levels"), level_count, &levels[0][0]);
+        gl.Uniform1i(cp.uniform_location("qc_level_count"), level_count);
+        const auto groups = static_cast<std::uint32_t>((count + 63) / 64), gx = std::min<std::uint32_t>(groups, 65535u);
+        gl.DispatchCompute(gx, (groups + gx - 1) / gx, 1);
+        gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        return true;
+    }
+
     void draw_volume(Volume& v, const render::Camera& cam, const render::Light& light, const render::RenderOptions& opt, bool gbuffer) {
         const Api& gl = *api_;
         const render::VolumeModel& m = *v.model;
@@ -287,16 +436,54 @@ private:
             gl.DispatchCompute(static_cast<GLuint>((n + 63) / 64), 1, 1);
             gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
         }
+        // Occlusion culling (tetrahedra): the elements in phases, nearest first; before each later
+        // one, the depth drawn so far is copied for the fragment stage's test of its element's
+        // depth floor, which a compute pass computes first.
+        const std::vector<std::size_t> ends = phase_ends(n, opt.occlusion_culling && !tri ? opt.occlusion_phases : 1);
+        const bool occlusion = ends.size() > 1;
+        if (occlusion && n > v.floor_capacity) {
+            if (!v.floors) gl.GenBuffers(1, &v.floors);
+            v.floor_capacity = std::max(n, 2 * v.floor_capacity);
+            gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, v.floors);
+            gl.BufferData(GL_SHADER_STORAGE_BUFFER, static_cast<GLsizeiptr>(v.floor_capacity * sizeof(float)), nullptr, GL_DYNAMIC_COPY);
+            gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
+        }
+        if (occlusion) gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 10, v.floors);
         const Program& prog = programs_.get(render::IsoKey{m.scheme, cam.orthographic, gbuffer, pre});
         gl.UseProgram(prog.id());
         set_uniforms(prog, m, cam, light, opt);
         gl.Uniform1ui(prog.uniform_location("qc_first"), 0u);
+        if (!tri) {
+            gl.Uniform1i(prog.uniform_location("qc_occlusion"), 0);
+            gl.Uniform1i(prog.uniform_location("qc_drawn_depth"), static_cast<GLint>(drawn_unit));
+        }
         // In batches over the index buffer of `batch_elements`: the base vertex moves gl_VertexID,
         // and with it the element the vertex stage reads, to the batch's first.
         const std::size_t per = tri ? 8 : 4;
-        for (std::size_t first = 0; first < n; first += batch_elements)
-            gl.DrawElementsBaseVertex(GL_TRIANGLES, static_cast<GLsizei>(std::min(batch_elements, n - first) * (tri ? 36 : 12)), GL_UNSIGNED_INT, nullptr,
-                                      static_cast<GLint>(first * per));
+        std::size_t first = 0;
+        v.stats.phases = 0;
+        v.stats.occluded = 0;
+        for (std::size_t end : ends) {
+            if (occlusion && first > 0) {
+                const bool test = copy_drawn_depth() && cull_phase(v, cam, light, opt, first, end - first);
+                gl.UseProgram(prog.id());
+                gl.Uniform1i(prog.uniform_location("qc_occlusion"), test ? 1 : 0);
+            }
+            for (; first < end; first += std::min(batch_elements, end - first))
+                gl.DrawElementsBaseVertex(GL_TRIANGLES, static_cast<GLsizei>(std::min(batch_elements, end - first) * (tri ? 36 : 12)), GL_UNSIGNED_INT, nullptr,
+                                          static_cast<GLint>(first * per));
+            ++v.stats.phases;
+        }
+        if (occlusion) {
+            gl.BindTextureUnit(drawn_unit, 0);
+            gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, 0);
+            gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 10, 0);
+            if (count_occluded_) {
+                std::vector<float> f(n);
+                gl.GetNamedBufferSubData(v.floors, 0, static_cast<GLsizeiptr>(n * sizeof(float)), f.data());
+                for (std::size_t i = ends.front(); i < n; ++i) v.stats.occluded += f[i] > 1.0f ? 1 : 0;
+            }
+        }
         if (pre) gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, 0);
     }
 
@@ -450,6 +637,14 @@ private:
     bool frustum_culling_ = true, tet_culling_ = true;
     CoefficientStage coeff_stage_ = CoefficientStage::vertex;
     ElementList element_list_ = ElementList::cpu;
+    /// The occlusion test's copy of the depth buffer, and the texture unit it is read from.
+    static constexpr GLuint drawn_unit = 7;
+    GLuint drawn_fbo_ = 0, drawn_tex_ = 0;
+    GLint drawn_w_ = 0, drawn_h_ = 0;
+    GLenum drawn_format_ = GL_NONE;
+    GLuint pyramid_ = 0;  ///< the max-depth pyramid of occlusion culling (window depth bits, levels packed)
+    std::size_t pyramid_texels_ = 0;
+    bool count_occluded_ = false;
 };
 
 }  // namespace quadcast::gl

@@ -161,6 +161,80 @@ T clip_pad(const T& pixel, const Vec3<T>& v) {
     return max(T(min_clip_pad), (T(clip_pad_per_footprint) * pixel) * length(v));
 }
 
+/// What the isosurface renderer's occlusion culling knows of tetrahedron t of a cube
+/// (quadcast::gl::IsosurfaceRenderer): a lower bound `floor` of the window depth of every hit its
+/// fragment stage can find there, and the NDC rectangle [lo, hi] of its pixels, which holds when
+/// `visible` (every corner of the grown tetrahedron in front of the eye plane, clip w > 0).
+/// A tetrahedron whose floor lies behind the depth already drawn over its rectangle is not drawn;
+/// a fragment whose floor lies behind the depth drawn at its pixel is discarded before it casts.
+template <class T>
+struct TetOcclusionBound {
+    T floor;
+    Vec2<T> lo, hi;
+    mask_t<T> visible;
+};
+
+/// `TetOcclusionBound` of tetrahedron t of the cube with centre `c` (index space, s = 1/2);
+/// `corners` = its cube-local vertices (entries 0, ±1); other arguments as `cell_vertex`.
+/// The fragment stage clips to the tetrahedron grown by its pad (barycentric coordinates >= -pad),
+/// which is the tetrahedron scaled about its centroid by 1 + 4 pad; pad = `clip_pad` is largest
+/// where |v| is, and |v| (the cube-local ray direction, perspective: (p - eye) / s) is convex in
+/// p, so its largest value over the tetrahedron is at a corner. So both bounds take the corners
+/// scaled about their centroid by g = 1 + 4 pad_max + 2^-12 (rounding of the barycentric
+/// coordinates). floor: their view-space z (affine: the centroid's plus g times the offsets), the
+/// largest (nearest) moved nearer by 2^-16 of (|z| + the offsets), its window depth (as
+/// `window_depth` computes it) less 2^-20; perspective (pz[2] != 0): 0 (no bound) unless that z
+/// is in front of the eye (< 0). Rectangle: the scaled corners through view_proj, x / w and y / w.
+/// Numerics: x = origin + spacing ⊙ (c + u s); z = vz_row · (x - eye_world) (left fold); |v| =
+/// sqrt(v · v) with v as in `cell_vertex`; centroids (sum of the four, left fold) * 1/4; scaled
+/// corner = xc + g (x - xc); the rest as written.
+template <class T>
+TetOcclusionBound<T> tet_occlusion_bound(const Vec3<T>& c, const std::array<Vec3<T>, 4>& corners, const Vec3<T>& eye_index, const Vec3<T>& eye_world,
+                                         const Vec3<T>& forward_world, const Vec3<T>& origin, const Vec3<T>& spacing, const Mat4<T>& view_proj,
+                                         const Vec3<T>& vz_row, const Vec4<T>& pz, const T& pixel, bool ortho) {
+    const T s = T(0.5), inv_s = T(2);
+    std::array<Vec3<T>, 4> x{};
+    std::array<T, 4> z{};
+    T vmax = T(0);
+    for (std::size_t k = 0; k < 4; ++k) {
+        const Vec3<T> p = c + corners[k] * s;
+        x[k] = origin + cmul(spacing, p);
+        z[k] = dot(vz_row, x[k] - eye_world);
+        Vec3<T> v{};
+        if (!ortho) v = (p - eye_index) * inv_s;
+        else
+            for (int a = 0; a < 3; ++a) v[a] = (forward_world[a] / spacing[a]) * inv_s;
+        vmax = max(vmax, length(v));
+    }
+    const T pad = max(T(min_clip_pad), (T(clip_pad_per_footprint) * pixel) * vmax);
+    const T g = (T(1) + T(4) * pad) + T(1.0 / 4096.0);
+    // The floor
+    const T zc = (((z[0] + z[1]) + z[2]) + z[3]) * T(0.25);
+    T off = (z[0] - zc) * g, extent = abs(z[0] - zc);
+    for (std::size_t k = 1; k < 4; ++k) {
+        off = max(off, (z[k] - zc) * g);
+        extent = max(extent, abs(z[k] - zc));
+    }
+    const T zn = zc + off;
+    const T zf = zn + (abs(zn) + extent * g) * T(1.0 / 65536.0);
+    const T depth = T(0.5) * ((pz[0] * zf + pz[1]) / (pz[2] * zf + pz[3])) + T(0.5) - T(1.0 / 1048576.0);
+    TetOcclusionBound<T> b{};
+    b.floor = select(pz[2] != T(0) && zf >= T(0), T(0), depth);
+    // The rectangle
+    const Vec3<T> xc = (((x[0] + x[1]) + x[2]) + x[3]) * T(0.25);
+    b.visible = mask_t<T>(true);
+    for (std::size_t k = 0; k < 4; ++k) {
+        const Vec3<T> xg = xc + (x[k] - xc) * g;
+        const Vec4<T> q = view_proj * vec4(xg[0], xg[1], xg[2], T(1));
+        b.visible = b.visible && q[3] > T(0);
+        const T inv_w = T(1) / select(q[3] > T(0), q[3], T(1));
+        const Vec2<T> n = vec2(q[0] * inv_w, q[1] * inv_w);
+        b.lo = k == 0 ? n : vec2(min(b.lo[0], n[0]), min(b.lo[1], n[1]));
+        b.hi = k == 0 ? n : vec2(max(b.hi[0], n[0]), max(b.hi[1], n[1]));
+    }
+    return b;
+}
+
 /// The fragment stage of a spline tetrahedron (Kalbe & Zeilfelder 2008, Sect. 5.3): the ray
 /// o + s v (cube-local, λ = w + s) is rotated into the frame of T_0 by R_t^T (`apply_transpose`,
 /// exact), clipped to the tetrahedron grown by `clip_pad(pixel, v)` and to the visible λ range
