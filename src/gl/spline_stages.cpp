@@ -282,8 +282,9 @@ Stage fragment_shader(Scheme scheme, bool ortho, bool gbuffer) {
 }
 
 /// The compute pre-pass of the `precomputed` vertex stages: per element (relevant tetrahedron)
-/// of the frame the coefficients by repeated averaging, once instead of once per vertex, written
-/// to the storage buffer the vertex stage reads.
+/// of the frame, or of a phase of occlusion culling that is not culled, the coefficients by
+/// repeated averaging, once instead of once per vertex, written to the storage buffer the vertex
+/// stage reads.
 Stage coefficient_shader(Scheme scheme) {
     Stage s;
     std::ostringstream fns;
@@ -295,11 +296,17 @@ Stage coefficient_shader(Scheme scheme) {
          "layout(std430, binding = 0) readonly buffer qc_Elements { uvec4 qc_elements[]; };\n"
          "layout(std430, binding = 1) readonly buffer qc_DeterminingSets { float qc_dsets[]; };  // " << n << " per active cube\n"
          "layout(std430, binding = 2) writeonly buffer qc_Coefficients { float qc_coeffs[]; };  // " << nc << " per element\n"
-         "uniform uint qc_count;\n\n"
+         "uniform uint qc_first;        // the elements qc_first .. qc_first + qc_count - 1 (a phase of occlusion culling, or all)\n"
+         "uniform uint qc_count;\n"
+         "// Occlusion culling: the elements culled behind the earlier phases (qc_floors > 1) need none\n"
+         "layout(std430, binding = 10) readonly buffer qc_Floors { float qc_floors[]; };\n"
+         "uniform int qc_occlusion;\n\n"
       << permutation_table(scheme) << "\n" << fns.str()
       << "void main()\n{\n"
-         "    uint e = gl_GlobalInvocationID.x;\n"
-         "    if (e >= qc_count) return;\n"
+         "    uint i = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * 64u + gl_LocalInvocationID.x;\n"
+         "    if (i >= qc_count) return;\n"
+         "    uint e = qc_first + i;\n"
+         "    if (qc_occlusion != 0 && qc_floors[e] > 1.0) return;\n"
          "    uvec4 rec = qc_elements[e];\n"
          "    uint slot = rec.w >> 5u;\n"
          "    int t = int(rec.w & 31u);\n";
@@ -326,15 +333,15 @@ const char* pyramid_base_shader =
     "    ivec2 t = ivec2(gl_GlobalInvocationID.xy);\n"
     "    if (t.x >= qc_viewport_rect.z || t.y >= qc_viewport_rect.w) return;\n"
     "    float d = texelFetch(qc_drawn_depth, qc_viewport_rect.xy + t, 0).r;\n"
-    "    qc_depth[t.y * qc_viewport_rect.z + t.x] = floatBitsToUint(max(d, 0.0));\n"
+    "    qc_depth[t.y * qc_viewport_rect.z + t.x] = floatBitsToUint(d > 0.0 ? d : 0.0);  // (never -0.0, whose bits would be largest)\n"
     "}\n";
 
 /// Occlusion culling, pass 2 of a later phase: per element (relevant tetrahedron) of the phase
-/// its `tet_occlusion_bound`; an element whose rectangle holds pixels (`pixel_span`, grown by a
-/// pixel for the rasteriser's snapping) all of whose drawn depths (the pyramid level where they
-/// span at most 4 x 4 texels) lie nearer than its floor is culled (qc_floors 2: the vertex stage
-/// moves it outside the clip volume), else qc_floors = its floor, which the fragment stage tests
-/// against the depth drawn at its pixel.
+/// its `tet_occlusion_bound`; an element whose rectangle (`pixel_span`, grown by a pixel for the
+/// rasteriser's snapping) holds no pixel of the viewport, or only pixels whose drawn depths (the
+/// pyramid level where they span at most 4 x 4 texels) all lie nearer than its floor, is culled
+/// (qc_floors 2: the vertex stage moves it outside the clip volume), else qc_floors = its floor,
+/// which the fragment stage tests against the depth drawn at its pixel.
 Stage occlusion_bound_shader(bool ortho) {
     Stage s;
     std::ostringstream fns;

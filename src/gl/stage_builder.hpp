@@ -62,11 +62,6 @@ Stage quadric_vertex_stage(bool ortho);
 /// numbers; src/gl/stages.cpp).
 extern const char* const fullscreen_vertex;
 
-/// The end of a cull pass over records in workgroups of 64 (the quadric renderer's and the
-/// isosurface element list's): from `kept` and `inside` of invocation t of workgroup `group`, the
-/// exclusive prefix sum of the workgroup's flags in shared qc_flags[64], the workgroup's count
-/// into qc_groups[group] and per record qc_keep[`record`] = 0 (culled) or 1 + the kept records
-/// before it in the workgroup (the compaction's slot).
 /// GLSL of the max-depth pyramid lookup of the cull passes: `qc_pyramid_farthest(b)`, the largest
 /// value over the pixels b = (x0, y0, x1, y1) (inclusive) read from the lowest level where they
 /// span at most 4 x 4 texels; the stage declares qc_depth[] (the levels packed), qc_levels[16]
@@ -82,6 +77,11 @@ inline const char* pyramid_farthest_glsl =
     "    return farthest;\n"
     "}\n\n";
 
+/// The end of a cull pass over records in workgroups of 64 (the quadric renderer's and the
+/// isosurface element list's): from `kept` and `inside` of invocation t of workgroup `group`, the
+/// exclusive prefix sum of the workgroup's flags in shared qc_flags[64], the workgroup's count
+/// into qc_groups[group] and per record qc_keep[`record`] = 0 (culled) or 1 + the kept records
+/// before it in the workgroup (the compaction's slot).
 inline std::string keep_flags_glsl(const std::string& record) {
     return "    qc_flags[t] = kept ? 1u : 0u;\n"
            "    barrier();\n"

@@ -405,7 +405,8 @@ TEST_CASE("tet_occlusion_bound: every hit the fragment stage can find lies behin
     long double least_gap = 1e9L;
     for (int it = 0; it < 4000; ++it) {
         const bool ortho = it % 4 == 3;
-        const Vec3<double> spacing = vec3(0.3 + u01(rng), 0.3 + u01(rng), 0.3 + u01(rng)), origin = vec3(u(rng), u(rng), u(rng)) * 20.0;
+        // (every other volume far from the world origin, as scanner coordinates are)
+        const Vec3<double> spacing = vec3(0.3 + u01(rng), 0.3 + u01(rng), 0.3 + u01(rng)), origin = vec3(u(rng), u(rng), u(rng)) * (it % 2 ? 3000.0 : 20.0);
         const Vec3<float> c = vec3(float(std::floor(40 * u01(rng))), float(std::floor(40 * u01(rng))), float(std::floor(40 * u01(rng))));
         const Vec3<double> centre = origin + cmul(spacing, cast<double>(c));
         const double dist = it % 3 == 0 ? 1.0 + 3 * u01(rng) : 5 + 400 * u01(rng);
@@ -448,10 +449,16 @@ TEST_CASE("tet_occlusion_bound: every hit the fragment stage can find lies behin
             long double cen[3] = {0, 0, 0};
             for (int k = 0; k < 4; ++k)
                 for (int a = 0; a < 3; ++a) cen[a] += 0.25L * (static_cast<long double>(c[a]) + 0.5L * corners[k][a]);
-            long double x[3];
-            for (int a = 0; a < 3; ++a) x[a] = static_cast<long double>(origin_f[a]) + static_cast<long double>(spacing_f[a]) * (cen[a] + (1 + 4 * pad) * (p[a] - cen[a]));
-            // view z and window depth; clip position
-            const long double z = static_cast<long double>(vz_row[0]) * (x[0] - ex) + static_cast<long double>(vz_row[1]) * (x[1] - ey) + static_cast<long double>(vz_row[2]) * (x[2] - ez);
+            long double xi[3], x[3];
+            for (int a = 0; a < 3; ++a) {
+                xi[a] = cen[a] + (1 + 4 * pad) * (p[a] - cen[a]);
+                x[a] = static_cast<long double>(origin_f[a]) + static_cast<long double>(spacing_f[a]) * xi[a];
+            }
+            // view z as the fragment stage has it (perspective: λ vz from the eye in index space;
+            // orthographic: from the camera plane through the world eye), window depth; clip position
+            long double z = 0;
+            for (int a = 0; a < 3; ++a)
+                z += static_cast<long double>(vz_row[a]) * (ortho ? x[a] - (a == 0 ? ex : a == 1 ? ey : ez) : static_cast<long double>(spacing_f[a]) * (xi[a] - eye_index[a]));
             long double q[4] = {0, 0, 0, 0};
             const long double xh[4] = {x[0], x[1], x[2], 1.0L};
             for (int r = 0; r < 4; ++r)

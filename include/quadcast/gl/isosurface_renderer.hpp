@@ -58,8 +58,10 @@ public:
     ~IsosurfaceRenderer() override {
         for (Volume& v : volumes_) release(v);
         api_->DeleteVertexArrays(1, &vao_);
-        if (drawn_fbo_) api_->DeleteFramebuffers(1, &drawn_fbo_);
-        if (drawn_tex_) api_->DeleteTextures(1, &drawn_tex_);
+        for (DepthCopy& c : copies_) {
+            if (c.fbo) api_->DeleteFramebuffers(1, &c.fbo);
+            if (c.tex) api_->DeleteTextures(1, &c.tex);
+        }
         if (pyramid_) api_->DeleteBuffers(1, &pyramid_);
     }
     IsosurfaceRenderer(const IsosurfaceRenderer&) = delete;
@@ -312,48 +314,56 @@ private:
         return ends;
     }
 
-    /// The occlusion test's copy of the bound framebuffer's depth (viewport region) into
-    /// `drawn_tex_`, bound to texture unit `drawn_unit`; false (no test) when the depth buffer
-    /// cannot be copied: no depth attachment, multisampling, or a format other than 32-bit float or
-    /// 24-bit normalised depth.
+    /// The occlusion test's copy of the bound framebuffer's depth (viewport region), bound to
+    /// texture unit `drawn_unit`; false (no test) when the depth buffer cannot be copied: the
+    /// default framebuffer, no depth attachment, a stencil attachment of its own, multisampling,
+    /// or a format other than 32-bit float or 24-bit normalised depth. Two copies are kept (the
+    /// shadow map's size and the view's), each remade when its size or format changes.
     bool copy_drawn_depth() {
         const Api& gl = *api_;
         GLint fbo = 0, vp[4] = {0, 0, 0, 0}, samples = 0;
         gl.GetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &fbo);
         gl.GetIntegerv(GL_VIEWPORT, vp);
         gl.GetIntegerv(GL_SAMPLES, &samples);
-        if (samples > 0 || vp[2] <= 0 || vp[3] <= 0) return false;
-        GLint type = GL_NONE, size = 0, comp = GL_NONE, stencil = 0;
-        const GLenum att = fbo ? GL_DEPTH_ATTACHMENT : GL_DEPTH;
-        gl.GetFramebufferAttachmentParameteriv(GL_DRAW_FRAMEBUFFER, att, GL_FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE, &type);
+        if (fbo == 0 || samples > 0 || vp[2] <= 0 || vp[3] <= 0) return false;
+        GLint type = GL_NONE, name = 0, size = 0, comp = GL_NONE, stencil_type = GL_NONE, stencil_name = 0, stencil = 0;
+        gl.GetFramebufferAttachmentParameteriv(GL_DRAW_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE, &type);
         if (type == GL_NONE) return false;
-        gl.GetFramebufferAttachmentParameteriv(GL_DRAW_FRAMEBUFFER, att, GL_FRAMEBUFFER_ATTACHMENT_DEPTH_SIZE, &size);
-        gl.GetFramebufferAttachmentParameteriv(GL_DRAW_FRAMEBUFFER, att, GL_FRAMEBUFFER_ATTACHMENT_COMPONENT_TYPE, &comp);
-        GLint stencil_type = GL_NONE;
-        const GLenum satt = fbo ? GL_STENCIL_ATTACHMENT : GL_STENCIL;
-        gl.GetFramebufferAttachmentParameteriv(GL_DRAW_FRAMEBUFFER, satt, GL_FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE, &stencil_type);
-        if (stencil_type != GL_NONE) gl.GetFramebufferAttachmentParameteriv(GL_DRAW_FRAMEBUFFER, satt, GL_FRAMEBUFFER_ATTACHMENT_STENCIL_SIZE, &stencil);
+        gl.GetFramebufferAttachmentParameteriv(GL_DRAW_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_FRAMEBUFFER_ATTACHMENT_OBJECT_NAME, &name);
+        gl.GetFramebufferAttachmentParameteriv(GL_DRAW_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_FRAMEBUFFER_ATTACHMENT_DEPTH_SIZE, &size);
+        gl.GetFramebufferAttachmentParameteriv(GL_DRAW_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_FRAMEBUFFER_ATTACHMENT_COMPONENT_TYPE, &comp);
+        gl.GetFramebufferAttachmentParameteriv(GL_DRAW_FRAMEBUFFER, GL_STENCIL_ATTACHMENT, GL_FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE, &stencil_type);
+        if (stencil_type != GL_NONE) {
+            gl.GetFramebufferAttachmentParameteriv(GL_DRAW_FRAMEBUFFER, GL_STENCIL_ATTACHMENT, GL_FRAMEBUFFER_ATTACHMENT_OBJECT_NAME, &stencil_name);
+            if (stencil_type != type || stencil_name != name) return false;  // (a stencil buffer of its own)
+            gl.GetFramebufferAttachmentParameteriv(GL_DRAW_FRAMEBUFFER, GL_STENCIL_ATTACHMENT, GL_FRAMEBUFFER_ATTACHMENT_STENCIL_SIZE, &stencil);
+        }
         GLenum format = GL_NONE;
         if (size == 32 && comp == GL_FLOAT) format = stencil ? GL_DEPTH32F_STENCIL8 : GL_DEPTH_COMPONENT32F;
         else if (size == 24 && comp == GL_UNSIGNED_NORMALIZED) format = stencil ? GL_DEPTH24_STENCIL8 : GL_DEPTH_COMPONENT24;
         if (format == GL_NONE) return false;
         const GLint w = vp[0] + vp[2], h = vp[1] + vp[3];
-        if (!drawn_tex_ || w != drawn_w_ || h != drawn_h_ || format != drawn_format_) {
-            if (drawn_tex_) gl.DeleteTextures(1, &drawn_tex_);
-            if (!drawn_fbo_) gl.CreateFramebuffers(1, &drawn_fbo_);
-            gl.CreateTextures(GL_TEXTURE_2D, 1, &drawn_tex_);
-            gl.TextureStorage2D(drawn_tex_, 1, format, w, h);
-            gl.TextureParameteri(drawn_tex_, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-            gl.TextureParameteri(drawn_tex_, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-            gl.NamedFramebufferTexture(drawn_fbo_, stencil ? GL_DEPTH_STENCIL_ATTACHMENT : GL_DEPTH_ATTACHMENT, drawn_tex_, 0);
-            gl.NamedFramebufferDrawBuffer(drawn_fbo_, GL_NONE);
-            gl.NamedFramebufferReadBuffer(drawn_fbo_, GL_NONE);
-            drawn_w_ = w;
-            drawn_h_ = h;
-            drawn_format_ = format;
+        DepthCopy* c = &copies_[0];
+        for (DepthCopy& k : copies_)
+            if (k.w == w && k.h == h && k.format == format) c = &k;
+        if (c->w != w || c->h != h || c->format != format) {
+            c = &copies_[next_copy_];  // (replaced in turn)
+            next_copy_ = 1 - next_copy_;
+            if (c->tex) gl.DeleteTextures(1, &c->tex);
+            if (!c->fbo) gl.CreateFramebuffers(1, &c->fbo);
+            gl.CreateTextures(GL_TEXTURE_2D, 1, &c->tex);
+            gl.TextureStorage2D(c->tex, 1, format, w, h);
+            gl.TextureParameteri(c->tex, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+            gl.TextureParameteri(c->tex, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+            gl.NamedFramebufferTexture(c->fbo, stencil ? GL_DEPTH_STENCIL_ATTACHMENT : GL_DEPTH_ATTACHMENT, c->tex, 0);
+            gl.NamedFramebufferDrawBuffer(c->fbo, GL_NONE);
+            gl.NamedFramebufferReadBuffer(c->fbo, GL_NONE);
+            c->w = w;
+            c->h = h;
+            c->format = format;
         }
-        gl.BlitNamedFramebuffer(static_cast<GLuint>(fbo), drawn_fbo_, vp[0], vp[1], w, h, vp[0], vp[1], w, h, GL_DEPTH_BUFFER_BIT, GL_NEAREST);
-        gl.BindTextureUnit(drawn_unit, drawn_tex_);
+        gl.BlitNamedFramebuffer(static_cast<GLuint>(fbo), c->fbo, vp[0], vp[1], w, h, vp[0], vp[1], w, h, GL_DEPTH_BUFFER_BIT, GL_NEAREST);
+        gl.BindTextureUnit(drawn_unit, c->tex);
         return true;
     }
 
@@ -424,22 +434,32 @@ private:
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, v.data);
         const bool pre = coeff_stage_ == CoefficientStage::compute && !tri;
         if (pre) {
-            // The compute pre-pass: every element's coefficients, then a barrier for the vertex stage
             const std::size_t nc = static_cast<std::size_t>(bb::coefficient_count(m.degree()));
             gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, v.coeffs);
             gl.BufferData(GL_SHADER_STORAGE_BUFFER, static_cast<GLsizeiptr>(n * nc * sizeof(float)), nullptr, GL_DYNAMIC_COPY);
             gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
             gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, v.coeffs);
+        }
+        // The compute pre-pass: the coefficients of elements first .. first + count - 1 (those not
+        // culled, with `occluded`), then a barrier for the vertex stage
+        const auto precompute = [&](std::size_t first, std::size_t count, bool occluded) {
             const Program& cp = programs_.compute(m.scheme);
             gl.UseProgram(cp.id());
-            gl.Uniform1ui(cp.uniform_location("qc_count"), static_cast<GLuint>(n));
-            gl.DispatchCompute(static_cast<GLuint>((n + 63) / 64), 1, 1);
+            gl.Uniform1ui(cp.uniform_location("qc_first"), static_cast<GLuint>(first));
+            gl.Uniform1ui(cp.uniform_location("qc_count"), static_cast<GLuint>(count));
+            gl.Uniform1i(cp.uniform_location("qc_occlusion"), occluded ? 1 : 0);
+            const auto groups = static_cast<std::uint32_t>((count + 63) / 64), gx = std::min<std::uint32_t>(std::max<std::uint32_t>(groups, 1), 65535u);
+            gl.DispatchCompute(gx, (groups + gx - 1) / gx, 1);
             gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-        }
+        };
         // Occlusion culling (tetrahedra): the elements in phases, nearest first; before each later
         // one, the depth drawn so far is copied for the fragment stage's test of its element's
         // depth floor, which a compute pass computes first.
-        const std::vector<std::size_t> ends = phase_ends(n, opt.occlusion_culling && !tri ? opt.occlusion_phases : 1);
+        // (The tests drop only what the depth test would: only with the depth test on, LESS or LEQUAL.)
+        GLint depth_func = GL_NONE;
+        gl.GetIntegerv(GL_DEPTH_FUNC, &depth_func);
+        const bool depth_tested = gl.IsEnabled(GL_DEPTH_TEST) && (depth_func == GL_LESS || depth_func == GL_LEQUAL);
+        const std::vector<std::size_t> ends = phase_ends(n, opt.occlusion_culling && !tri && depth_tested ? opt.occlusion_phases : 1);
         const bool occlusion = ends.size() > 1;
         if (occlusion && n > v.floor_capacity) {
             if (!v.floors) gl.GenBuffers(1, &v.floors);
@@ -453,22 +473,21 @@ private:
         gl.UseProgram(prog.id());
         set_uniforms(prog, m, cam, light, opt);
         gl.Uniform1ui(prog.uniform_location("qc_first"), 0u);
-        if (!tri) {
-            gl.Uniform1i(prog.uniform_location("qc_occlusion"), 0);
-            gl.Uniform1i(prog.uniform_location("qc_drawn_depth"), static_cast<GLint>(drawn_unit));
-        }
+        if (!tri) gl.Uniform1i(prog.uniform_location("qc_drawn_depth"), static_cast<GLint>(drawn_unit));
         // In batches over the index buffer of `batch_elements`: the base vertex moves gl_VertexID,
         // and with it the element the vertex stage reads, to the batch's first.
         const std::size_t per = tri ? 8 : 4;
         std::size_t first = 0;
         v.stats.phases = 0;
         v.stats.occluded = 0;
+        std::vector<std::pair<std::size_t, std::size_t>> tested;  // (the phases culled: for IsoDrawStats::occluded)
         for (std::size_t end : ends) {
-            if (occlusion && first > 0) {
-                const bool test = copy_drawn_depth() && cull_phase(v, cam, light, opt, first, end - first);
-                gl.UseProgram(prog.id());
-                gl.Uniform1i(prog.uniform_location("qc_occlusion"), test ? 1 : 0);
-            }
+            bool test = false;
+            if (occlusion && first > 0) test = copy_drawn_depth() && cull_phase(v, cam, light, opt, first, end - first);
+            if (test) tested.emplace_back(first, end);
+            if (pre) precompute(first, end - first, test);
+            gl.UseProgram(prog.id());
+            gl.Uniform1i(prog.uniform_location("qc_occlusion"), test ? 1 : 0);
             for (; first < end; first += std::min(batch_elements, end - first))
                 gl.DrawElementsBaseVertex(GL_TRIANGLES, static_cast<GLsizei>(std::min(batch_elements, end - first) * (tri ? 36 : 12)), GL_UNSIGNED_INT, nullptr,
                                           static_cast<GLint>(first * per));
@@ -479,9 +498,11 @@ private:
             gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, 0);
             gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 10, 0);
             if (count_occluded_) {
+                gl.MemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
                 std::vector<float> f(n);
                 gl.GetNamedBufferSubData(v.floors, 0, static_cast<GLsizeiptr>(n * sizeof(float)), f.data());
-                for (std::size_t i = ends.front(); i < n; ++i) v.stats.occluded += f[i] > 1.0f ? 1 : 0;
+                for (const auto& [b, e] : tested)
+                    for (std::size_t i = b; i < e; ++i) v.stats.occluded += f[i] > 1.0f ? 1 : 0;
             }
         }
         if (pre) gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, 0);
@@ -639,9 +660,13 @@ private:
     ElementList element_list_ = ElementList::cpu;
     /// The occlusion test's copy of the depth buffer, and the texture unit it is read from.
     static constexpr GLuint drawn_unit = 7;
-    GLuint drawn_fbo_ = 0, drawn_tex_ = 0;
-    GLint drawn_w_ = 0, drawn_h_ = 0;
-    GLenum drawn_format_ = GL_NONE;
+    struct DepthCopy {
+        GLuint fbo = 0, tex = 0;
+        GLint w = 0, h = 0;
+        GLenum format = GL_NONE;
+    };
+    DepthCopy copies_[2];
+    int next_copy_ = 0;
     GLuint pyramid_ = 0;  ///< the max-depth pyramid of occlusion culling (window depth bits, levels packed)
     std::size_t pyramid_texels_ = 0;
     bool count_occluded_ = false;

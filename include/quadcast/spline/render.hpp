@@ -185,8 +185,9 @@ struct TetOcclusionBound {
 /// largest (nearest) moved nearer by 2^-16 of (|z| + the offsets), its window depth (as
 /// `window_depth` computes it) less 2^-20; perspective (pz[2] != 0): 0 (no bound) unless that z
 /// is in front of the eye (< 0). Rectangle: the scaled corners through view_proj, x / w and y / w.
-/// Numerics: x = origin + spacing ⊙ (c + u s); z = vz_row · (x - eye_world) (left fold); |v| =
-/// sqrt(v · v) with v as in `cell_vertex`; centroids (sum of the four, left fold) * 1/4; scaled
+/// Numerics: p = c + u s, x = origin + spacing ⊙ p; z = vz_row · (spacing ⊙ (p - eye_index))
+/// (perspective, as `cell_vertex`'s vz of dir) or vz_row · (x - eye_world) (orthographic, as its
+/// w), left folds; |v| = sqrt(v · v) with v as in `cell_vertex`; centroids (sum of the four, left fold) * 1/4; scaled
 /// corner = xc + g (x - xc); the rest as written.
 template <class T>
 TetOcclusionBound<T> tet_occlusion_bound(const Vec3<T>& c, const std::array<Vec3<T>, 4>& corners, const Vec3<T>& eye_index, const Vec3<T>& eye_world,
@@ -199,11 +200,17 @@ TetOcclusionBound<T> tet_occlusion_bound(const Vec3<T>& c, const std::array<Vec3
     for (std::size_t k = 0; k < 4; ++k) {
         const Vec3<T> p = c + corners[k] * s;
         x[k] = origin + cmul(spacing, p);
-        z[k] = dot(vz_row, x[k] - eye_world);
         Vec3<T> v{};
-        if (!ortho) v = (p - eye_index) * inv_s;
-        else
+        if (!ortho) {
+            // as the fragment stage's z = λ vz: from the eye in index space, so that its rounding
+            // scales with the distance from the eye, not with the coordinates' magnitude
+            const Vec3<T> d = p - eye_index;
+            z[k] = dot(vz_row, cmul(spacing, d));
+            v = d * inv_s;
+        } else {
+            z[k] = dot(vz_row, x[k] - eye_world);
             for (int a = 0; a < 3; ++a) v[a] = (forward_world[a] / spacing[a]) * inv_s;
+        }
         vmax = max(vmax, length(v));
     }
     const T pad = max(T(min_clip_pad), (T(clip_pad_per_footprint) * pixel) * vmax);
