@@ -138,23 +138,23 @@ struct ClipOutsideKernel {
 /// in index and world space, the viewing direction, origin, spacing, a view_proj and vz_row, put
 /// in that order.
 inline void put_cell_camera(std::mt19937& rng, std::span<float> in, std::size_t& p) {
-        const Vec3<float> spacing = vec3(uniform(rng, 0.2f, 3.0f), uniform(rng, 0.2f, 3.0f), uniform(rng, 0.2f, 3.0f));
-        const Vec3<float> origin = random_point(rng, 100.0f);
-        const Vec3<float> eye_world = random_point(rng, 800.0f);
-        Vec3<float> eye_index{};
-        for (int a = 0; a < 3; ++a) eye_index[a] = (eye_world[a] - origin[a]) / spacing[a];
-        const Mat3<float> rot = random_rotation(rng);  // world -> view
-        const Vec3<float> vz_row = vec3(rot[0][2], rot[1][2], rot[2][2]);
-        put(in, p, eye_index);
-        put(in, p, eye_world);
-        put(in, p, -vz_row);
-        put(in, p, origin);
-        put(in, p, spacing);
-        Mat4<float> vp{};
-        for (int j = 0; j < 4; ++j)
-            for (int i = 0; i < 4; ++i) vp[j][i] = uniform(rng, -2.0f, 2.0f);
-        put(in, p, vp);
-        put(in, p, vz_row);
+    const Vec3<float> spacing = vec3(uniform(rng, 0.2f, 3.0f), uniform(rng, 0.2f, 3.0f), uniform(rng, 0.2f, 3.0f));
+    const Vec3<float> origin = random_point(rng, 100.0f);
+    const Vec3<float> eye_world = random_point(rng, 800.0f);
+    Vec3<float> eye_index{};
+    for (int a = 0; a < 3; ++a) eye_index[a] = (eye_world[a] - origin[a]) / spacing[a];
+    const Mat3<float> rot = random_rotation(rng);  // world -> view
+    const Vec3<float> vz_row = vec3(rot[0][2], rot[1][2], rot[2][2]);
+    put(in, p, eye_index);
+    put(in, p, eye_world);
+    put(in, p, -vz_row);
+    put(in, p, origin);
+    put(in, p, spacing);
+    Mat4<float> vp{};
+    for (int j = 0; j < 4; ++j)
+        for (int i = 0; i < 4; ++i) vp[j][i] = uniform(rng, -2.0f, 2.0f);
+    put(in, p, vp);
+    put(in, p, vz_row);
 }
 
 /// The isosurface renderer's occlusion culling: a lower bound of the window depth of a
@@ -178,7 +178,7 @@ struct TetOcclusionBoundKernel {
         const auto vz_row = io.template vec<3>("vz_row");
         const auto pz = io.template vec<4>("pz");
         const auto pixel = io.scalar("pixel");
-        const spline::TetOcclusionBound<typename IO::T> b = spline::tet_occlusion_bound(c, u, eye_index, eye_world, forward, origin, spacing, view_proj, vz_row, pz, pixel, Ortho);
+        const spline::OcclusionBound<typename IO::T> b = spline::tet_occlusion_bound(c, u, eye_index, eye_world, forward, origin, spacing, view_proj, vz_row, pz, pixel, Ortho);
         io.out("floor", b.floor);
         io.out("lo", b.lo);
         io.out("hi", b.hi);
@@ -191,6 +191,43 @@ struct TetOcclusionBoundKernel {
         put(in, p, vec3(cell(), cell(), cell()));
         const auto v = spline::tet_vertices(std::uniform_int_distribution<int>(0, spline::tets_per_cube - 1)(rng));
         for (const auto& k : v) put(in, p, vec3(float(k[0]), float(k[1]), float(k[2])));
+        put_cell_camera(rng, in, p);
+        Vec4<float> pz{};
+        float vz = 0;
+        random_depth_terms(rng, Ortho, pz, vz);
+        put(in, p, pz);
+        put(in, p, std::ldexp(1.0f, std::uniform_int_distribution<int>(-14, -6)(rng)) * uniform(rng, 1.0f, 2.0f));  // pixel
+    }
+};
+
+/// The same for a trilinear cell (`cell_occlusion_bound`).
+template <bool Ortho>
+struct CellOcclusionBoundKernel {
+    static constexpr const char* name = Ortho ? "cell_occlusion_bound_ortho" : "cell_occlusion_bound_perspective";
+    static constexpr const char* source = "quadcast::spline::cell_occlusion_bound (quadcast/spline/render.hpp)";
+    static constexpr const char* summary = Ortho ? "isosurface renderer, occlusion culling: depth floor and NDC rectangle of a trilinear cell's hits, orthographic camera"
+                                                 : "isosurface renderer, occlusion culling: depth floor and NDC rectangle of a trilinear cell's hits, perspective camera";
+    template <class IO> static void run(IO& io) {
+        const auto c = io.template vec<3>("anchor");
+        const auto eye_index = io.template vec<3>("eye_index");
+        const auto eye_world = io.template vec<3>("eye_world");
+        const auto forward = io.template vec<3>("forward_world");
+        const auto origin = io.template vec<3>("origin");
+        const auto spacing = io.template vec<3>("spacing");
+        const Mat4<typename IO::T> view_proj = io.template mat<4>("view_proj");
+        const auto vz_row = io.template vec<3>("vz_row");
+        const auto pz = io.template vec<4>("pz");
+        const auto pixel = io.scalar("pixel");
+        const spline::OcclusionBound<typename IO::T> b = spline::cell_occlusion_bound(c, eye_index, eye_world, forward, origin, spacing, view_proj, vz_row, pz, pixel, Ortho);
+        io.out("floor", b.floor);
+        io.out("lo", b.lo);
+        io.out("hi", b.hi);
+        io.out("visible", b.visible);
+    }
+    static void generate(std::mt19937& rng, std::span<float> in) {
+        std::size_t p = 0;
+        const auto cell = [&] { return float(std::uniform_int_distribution<int>(0, 500)(rng)); };
+        put(in, p, vec3(cell(), cell(), cell()));
         put_cell_camera(rng, in, p);
         Vec4<float> pz{};
         float vz = 0;

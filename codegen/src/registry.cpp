@@ -94,6 +94,8 @@ const std::vector<KernelDef>& registry() {
         make_kernel<ClipOutsideKernel>(),
         make_kernel<TetOcclusionBoundKernel<false>>(),
         make_kernel<TetOcclusionBoundKernel<true>>(),
+        make_kernel<CellOcclusionBoundKernel<false>>(),
+        make_kernel<CellOcclusionBoundKernel<true>>(),
         make_kernel<SplineFragmentKernel<2>>(),
         make_kernel<SplineFragmentKernel<3>>(),
         make_kernel<TrilinearFragmentKernel>(),

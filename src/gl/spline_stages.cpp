@@ -146,15 +146,14 @@ Stage vertex_shader(Scheme scheme, bool ortho, bool precomputed = false) {
         else
             m << "layout(std430, binding = 1) readonly buffer qc_DeterminingSets { float qc_dsets[]; };  // " << n << " per active cube\n\n"
               << permutation_table(scheme);
-        m << tet_vertex_table() << "\n"
-             "// The depth floors of the elements, 2 for the culled ones (`occlusion_bound_shader`), read when qc_occlusion is 1.\n"
-             "layout(std430, binding = 10) readonly buffer qc_Floors { float qc_floors[]; };\n"
-             "uniform int qc_occlusion;\n\n";
+        m << tet_vertex_table() << "\n";
     }
+    m << "// The depth floors of the elements, 2 for the culled ones (`occlusion_bound_shader`), read when qc_occlusion is 1.\n"
+         "layout(std430, binding = 10) readonly buffer qc_Floors { float qc_floors[]; };\n"
+         "uniform int qc_occlusion;\n\n";
     for (int i = 0; i < g.count; ++i) m << "flat out " << vec_type(g.sizes[static_cast<std::size_t>(i)]) << " qc_" << g.name << i << ";\n";
-    if (!tri)
-        m << "flat out uint qc_tet;\n"
-             "flat out float qc_floor;      // no hit in the tetrahedron is nearer (occlusion test)\n";
+    if (!tri) m << "flat out uint qc_tet;\n";
+    m << "flat out float qc_floor;      // no hit in the element is nearer (occlusion test)\n";
     m << "out vec3 qc_o;\n" << oq << "out float qc_w;\n" << vq << "out vec3 qc_v;\n" << vq << "out vec3 qc_dir;\n" << vq << "out float qc_vz;\n\n";
     m << fns.str();
     const int per = tri ? 8 : 4;
@@ -162,7 +161,13 @@ Stage vertex_shader(Scheme scheme, bool ortho, bool precomputed = false) {
          "void main()\n{\n"
          "    uint e = qc_first + uint(gl_VertexID) / " << per << "u;\n"
          "    int k = gl_VertexID % " << per << ";\n"
-         "    uvec4 rec = qc_elements[e];\n";
+         "    uvec4 rec = qc_elements[e];\n"
+         "    // Occlusion culling: an element hidden behind what the earlier phases drew goes outside the clip volume\n"
+         "    qc_floor = qc_occlusion != 0 ? qc_floors[e] : 0.0;\n"
+         "    if (qc_floor > 1.0) {\n"
+         "        gl_Position = vec4(2.0, 2.0, 2.0, 1.0);\n"
+         "        return;\n"
+         "    }\n";
     if (tri) {
         m << "    ivec3 c = ivec3(rec.xyz);\n"
              "    float f[8];\n"
@@ -176,13 +181,7 @@ Stage vertex_shader(Scheme scheme, bool ortho, bool precomputed = false) {
              "    vec2 scale = vec2(1.0, 1.0);\n";
     } else {
         m << "    uint slot = rec.w >> 5u;\n"
-             "    int t = int(rec.w & 31u);\n"
-             "    // Occlusion culling: an element hidden behind what the earlier phases drew goes outside the clip volume\n"
-             "    qc_floor = qc_occlusion != 0 ? qc_floors[e] : 0.0;\n"
-             "    if (qc_floor > 1.0) {\n"
-             "        gl_Position = vec4(2.0, 2.0, 2.0, 1.0);\n"
-             "        return;\n"
-             "    }\n";
+             "    int t = int(rec.w & 31u);\n";
         if (precomputed) {
             const int nc = bb::coefficient_count(degree(scheme));
             for (int i = 0; i < g.count; ++i) {
@@ -243,11 +242,10 @@ Stage fragment_shader(Scheme scheme, bool ortho, bool gbuffer) {
     }
     m << "\n";
     for (int i = 0; i < g.count; ++i) m << "flat in " << vec_type(g.sizes[static_cast<std::size_t>(i)]) << " qc_" << g.name << i << ";\n";
-    if (!tri)
-        m << "flat in uint qc_tet;\n"
-             "flat in float qc_floor;\n"
-             "uniform int qc_occlusion;                // 1: test qc_floor against qc_drawn_depth\n"
-             "uniform sampler2D qc_drawn_depth;        // the window depth the earlier phases drew\n";
+    if (!tri) m << "flat in uint qc_tet;\n";
+    m << "flat in float qc_floor;\n"
+         "uniform int qc_occlusion;                // 1: test qc_floor against qc_drawn_depth\n"
+         "uniform sampler2D qc_drawn_depth;        // the window depth the earlier phases drew\n";
     m << "in vec3 qc_o;\n" << oq << "in float qc_w;\n" << vq << "in vec3 qc_v;\n" << vq << "in vec3 qc_dir;\n" << vq << "in float qc_vz;\n";
     if (gbuffer)
         m << "layout(location = 0) out vec4 qc_gnormal;  // normal (unnormalised), window depth\n"
@@ -257,9 +255,8 @@ Stage fragment_shader(Scheme scheme, bool ortho, bool gbuffer) {
         m << "layout(location = 0) out vec4 qc_color_out;\n\n";
     m << fns.str();
     m << "void main()\n{\n";
-    if (!tri)
-        m << "    // Occlusion: every hit here would lie behind what the earlier phases drew (the depth test would drop it)\n"
-             "    if (qc_occlusion != 0 && qc_floor > texelFetch(qc_drawn_depth, ivec2(gl_FragCoord.xy), 0).r) discard;\n";
+    m << "    // Occlusion: every hit here would lie behind what the earlier phases drew (the depth test would drop it)\n"
+         "    if (qc_occlusion != 0 && qc_floor > texelFetch(qc_drawn_depth, ivec2(gl_FragCoord.xy), 0).r) discard;\n";
     m << "    bool hit;\n    float depth;\n    vec3 n;\n"
          "    qc_" << kernel << "(";
     for (int i = 0; i < g.count; ++i) m << "qc_" << g.name << i << ", ";
@@ -342,11 +339,11 @@ const char* pyramid_base_shader =
 /// pyramid level where they span at most 4 x 4 texels) all lie nearer than its floor, is culled
 /// (qc_floors 2: the vertex stage moves it outside the clip volume), else qc_floors = its floor,
 /// which the fragment stage tests against the depth drawn at its pixel.
-Stage occlusion_bound_shader(bool ortho) {
+Stage occlusion_bound_shader(bool ortho, bool tri) {
     Stage s;
     std::ostringstream fns;
     const std::string proj = ortho ? "ortho" : "perspective";
-    add_kernel(s, fns, "tet_occlusion_bound_" + proj);
+    add_kernel(s, fns, (tri ? "cell_occlusion_bound_" : "tet_occlusion_bound_") + proj);
     add_kernel(s, fns, "pixel_span");
     std::ostringstream m;
     m << "layout(local_size_x = 64) in;\n\n"
@@ -359,17 +356,21 @@ Stage occlusion_bound_shader(bool ortho) {
          "uniform vec2 qc_viewport;     // width, height\n"
          "uniform uvec3 qc_levels[16];  // offset, width, height of each pyramid level\n"
          "uniform int qc_level_count;\n\n"
-      << tet_vertex_table() << "\n" << fns.str() << detail::pyramid_farthest_glsl
+      << (tri ? std::string() : tet_vertex_table() + "\n") << fns.str() << detail::pyramid_farthest_glsl
       << "void main()\n{\n"
          "    uint i = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * 64u + gl_LocalInvocationID.x;\n"
          "    if (i >= qc_count) return;\n"
          "    uint e = qc_first + i;\n"
          "    uvec4 rec = qc_elements[e];\n"
-         "    int t = int(rec.w & 31u);\n"
-         "    float floor_depth;\n    vec2 lo, hi;\n    bool visible;\n"
-         "    qc_tet_occlusion_bound_" << proj << "(vec3(rec.xyz), qc_tet_vertices[4 * t], qc_tet_vertices[4 * t + 1], qc_tet_vertices[4 * t + 2], qc_tet_vertices[4 * t + 3],\n"
-         "        qc_eye_index, qc_eye_world, qc_forward_world, qc_origin, qc_spacing, qc_view_proj, qc_vz_row, qc_pz, qc_pixel, floor_depth, lo, hi, visible);\n"
-         "    bool culled = false;\n"
+         "    float floor_depth;\n    vec2 lo, hi;\n    bool visible;\n";
+    if (tri)
+        m << "    qc_cell_occlusion_bound_" << proj << "(vec3(rec.xyz), qc_eye_index, qc_eye_world, qc_forward_world, qc_origin, qc_spacing, qc_view_proj, qc_vz_row,\n"
+             "        qc_pz, qc_pixel, floor_depth, lo, hi, visible);\n";
+    else
+        m << "    int t = int(rec.w & 31u);\n"
+             "    qc_tet_occlusion_bound_" << proj << "(vec3(rec.xyz), qc_tet_vertices[4 * t], qc_tet_vertices[4 * t + 1], qc_tet_vertices[4 * t + 2], qc_tet_vertices[4 * t + 3],\n"
+             "        qc_eye_index, qc_eye_world, qc_forward_world, qc_origin, qc_spacing, qc_view_proj, qc_vz_row, qc_pz, qc_pixel, floor_depth, lo, hi, visible);\n";
+    m << "    bool culled = false;\n"
          "    if (visible && floor_depth > 0.0 && all(lessThan(abs(vec4(lo, hi)), vec4(64.0)))) {\n"
          "        vec4 span;\n"
          "        qc_pixel_span(lo, hi, qc_viewport, span);\n"
@@ -551,10 +552,11 @@ StageText element_list_stage(render::OcclusionPass pass) {
     }
 }
 
-StageText occlusion_bound_stage(bool ortho) {
-    return stage_text(StageText::Kind::compute, std::string("qc_iso_occlusion_bounds_") + (ortho ? "ortho" : "perspective") + ".comp", occlusion_bound_shader(ortho),
-                      std::string("isosurface renderer, occlusion culling: each tetrahedron of a phase culled against the max-depth pyramid, else its depth floor, ") +
-                          (ortho ? "orthographic" : "perspective") + " camera");
+StageText occlusion_bound_stage(bool ortho, bool cells) {
+    return stage_text(StageText::Kind::compute, std::string("qc_iso_occlusion_bounds_") + (cells ? "cells_" : "") + (ortho ? "ortho" : "perspective") + ".comp",
+                      occlusion_bound_shader(ortho, cells),
+                      std::string("isosurface renderer, occlusion culling: each ") + (cells ? "trilinear cell" : "tetrahedron") +
+                          " of a phase culled against the max-depth pyramid, else its depth floor, " + (ortho ? "orthographic" : "perspective") + " camera");
 }
 
 StageText pyramid_base_stage() {

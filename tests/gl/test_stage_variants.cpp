@@ -77,7 +77,8 @@ TEST_CASE("glslang accepts the stages of every variant key the renderers can ask
     for (const render::SlimKey& k : render::all_slim_keys()) validate(dir, render::key_name(k), gl::program_stages(k), seen, count);
     for (render::VolumeScheme s : {render::VolumeScheme::qss, render::VolumeScheme::s31})
         validate(dir, "iso coefficients", {gl::coefficient_stage(s)}, seen, count);
-    for (bool ortho : {false, true}) validate(dir, "iso occlusion bounds", {gl::occlusion_bound_stage(ortho)}, seen, count);
+    for (bool ortho : {false, true})
+        for (bool cells : {false, true}) validate(dir, "iso occlusion bounds", {gl::occlusion_bound_stage(ortho, cells)}, seen, count);
     validate(dir, "iso pyramid base", {gl::pyramid_base_stage()}, seen, count);
     MESSAGE(count << " distinct stage shaders validated");
     CHECK(count > 100);

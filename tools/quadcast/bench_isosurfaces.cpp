@@ -232,8 +232,8 @@ void run(const IsoBenchOptions& a) {
         for (int i = 0; i < a.frames; ++i) {
             gl.iso.set_coefficient_stage(Stage::vertex);
             g.push_back(gl.frame(cam, light, o));
-            if (s == render::VolumeScheme::trilinear) continue;
             gn.push_back(gl.frame(cam, light, no_occl));
+            if (s == render::VolumeScheme::trilinear) continue;
             gl.iso.set_coefficient_stage(Stage::compute);
             gc.push_back(gl.frame(cam, light, o));
         }

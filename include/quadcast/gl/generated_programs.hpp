@@ -48,8 +48,9 @@ public:
         return cached(std::string("iso-coefficients:") + render::volume_scheme_name(s), [&] { return std::vector<StageText>{coefficient_stage(s)}; });
     }
     /// The passes of the isosurface renderer's occlusion culling.
-    const Program& occlusion_bounds(bool ortho) {
-        return cached(std::string("iso-occlusion-bounds:") + (ortho ? "ortho" : "perspective"), [&] { return std::vector<StageText>{occlusion_bound_stage(ortho)}; });
+    const Program& occlusion_bounds(bool ortho, bool cells) {
+        return cached(std::string("iso-occlusion-bounds:") + (cells ? "cells:" : "") + (ortho ? "ortho" : "perspective"),
+                      [&] { return std::vector<StageText>{occlusion_bound_stage(ortho, cells)}; });
     }
     const Program& pyramid_base() {
         return cached("iso-pyramid-base", [&] { return std::vector<StageText>{pyramid_base_stage()}; });

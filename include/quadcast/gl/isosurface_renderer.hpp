@@ -11,9 +11,9 @@
 // - Vertex stage (traced): the tetrahedron's BB-coefficients by repeated averaging from the
 //   determining set seen from that tetrahedron (or, optionally, read from a compute pre-pass that
 //   runs the same averaging once per tetrahedron), the vertex's clip position and the ray terms.
-// - Occlusion culling (RenderOptions::occlusion_culling, occlusion_phases; QSS and S31): the cubes
-//   nearest first, the tetrahedra in phases; before each later phase a copy of the depth buffer,
-//   its max-depth pyramid and per tetrahedron `spline::tet_occlusion_bound` (compute): hidden ones
+// - Occlusion culling (RenderOptions::occlusion_culling, occlusion_phases): the cubes (cells)
+//   nearest first, the tetrahedra (cells) in phases; before each later phase a copy of the depth buffer,
+//   its max-depth pyramid and per element `spline::tet_occlusion_bound` / `cell_occlusion_bound` (compute): hidden ones
 //   leave the clip volume in the vertex stage, the others' fragments behind the copied depth are
 //   discarded before they cast. The same picture, bit for bit.
 // - Fragment stage (traced): the interpolated ray is rotated into T_0, clipped by barycentric
@@ -228,22 +228,23 @@ private:
         const spline::Frustum f = spline::frustum_from_clip_matrix(index_clip_matrix(cam, m));
         std::size_t visited = 0;
         std::vector<int> cubes = m.octree.active_cubes(m.iso, frustum_culling_ ? &f : nullptr, &visited);
-        if (m.scheme != render::VolumeScheme::trilinear) order_by_view_depth(cubes, m, cam);
+        order_by_view_depth(cubes, m, cam);
         return expand(v, cubes, visited);
     }
 
-    /// Spline cubes ordered by the view depth of their centres, nearest first (ties by index): the
-    /// order of the phases of occlusion culling, and of the draw whether it culls or not (where two
-    /// elements hit a pixel at exactly the same depth, the first drawn keeps it). The GPU list keeps
-    /// the octree's order.
+    /// Spline cubes (or trilinear cells) ordered by the view depth of their centres, nearest first
+    /// (ties by index): the order of the phases of occlusion culling, and of the draw whether it
+    /// culls or not (where two elements hit a pixel at exactly the same depth, the first drawn keeps
+    /// it). The GPU list keeps the octree's order.
     static void order_by_view_depth(std::vector<int>& cubes, const render::VolumeModel& m, const render::Camera& cam) {
         const int nx = m.octree.level(0).nx, ny = m.octree.level(0).ny;
+        const double off = m.scheme == render::VolumeScheme::trilinear ? 0.5 : 0.0;  // (cells: from their lower corners)
         double row[4];
         for (int a = 0; a < 4; ++a) row[a] = double(cam.view[a][2]);
         std::vector<std::pair<double, int>> keyed;
         keyed.reserve(cubes.size());
         for (int c : cubes) {
-            const double p[3] = {double(c % nx), double((c / nx) % ny), double(c / (nx * ny))};
+            const double p[3] = {double(c % nx) + off, double((c / nx) % ny) + off, double(c / (nx * ny)) + off};
             double z = row[3];
             for (int a = 0; a < 3; ++a) z += row[a] * (m.origin[a] + m.spacing[a] * p[a]);
             keyed.emplace_back(-z, c);
@@ -304,7 +305,7 @@ private:
     /// The phases of a frame's n elements (RenderOptions::occlusion_phases, as the quadric
     /// renderer's phased drawing): phase k ends at (2^(k+1) - 1) / (2^p - 1) of them, nearest
     /// first (the CPU list is ordered by the cubes' view depth); one phase without occlusion
-    /// culling, for trilinear cells, or for fewer than 4096 elements.
+    /// culling, or for fewer than 4096 elements.
     static std::vector<std::size_t> phase_ends(std::size_t n, int phases) {
         std::vector<std::size_t> ends;
         const int p = n < 4096 ? 1 : std::clamp(phases, 1, 8);
@@ -408,7 +409,7 @@ private:
             gl.DispatchCompute((levels[l][1] + 7) / 8, (levels[l][2] + 7) / 8, 1);
         }
         gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-        const Program& cp = programs_.occlusion_bounds(cam.orthographic);
+        const Program& cp = programs_.occlusion_bounds(cam.orthographic, v.model->scheme == render::VolumeScheme::trilinear);
         gl.UseProgram(cp.id());
         set_uniforms(cp, *v.model, cam, light, opt);
         gl.Uniform1ui(cp.uniform_location("qc_first"), static_cast<GLuint>(first));
@@ -459,7 +460,7 @@ private:
         GLint depth_func = GL_NONE;
         gl.GetIntegerv(GL_DEPTH_FUNC, &depth_func);
         const bool depth_tested = gl.IsEnabled(GL_DEPTH_TEST) && (depth_func == GL_LESS || depth_func == GL_LEQUAL);
-        const std::vector<std::size_t> ends = phase_ends(n, opt.occlusion_culling && !tri && depth_tested ? opt.occlusion_phases : 1);
+        const std::vector<std::size_t> ends = phase_ends(n, opt.occlusion_culling && depth_tested ? opt.occlusion_phases : 1);
         const bool occlusion = ends.size() > 1;
         if (occlusion && n > v.floor_capacity) {
             if (!v.floors) gl.GenBuffers(1, &v.floors);
@@ -473,7 +474,7 @@ private:
         gl.UseProgram(prog.id());
         set_uniforms(prog, m, cam, light, opt);
         gl.Uniform1ui(prog.uniform_location("qc_first"), 0u);
-        if (!tri) gl.Uniform1i(prog.uniform_location("qc_drawn_depth"), static_cast<GLint>(drawn_unit));
+        gl.Uniform1i(prog.uniform_location("qc_drawn_depth"), static_cast<GLint>(drawn_unit));
         // In batches over the index buffer of `batch_elements`: the base vertex moves gl_VertexID,
         // and with it the element the vertex stage reads, to the batch's first.
         const std::size_t per = tri ? 8 : 4;

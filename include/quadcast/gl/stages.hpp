@@ -46,10 +46,11 @@ StageText element_list_stage(render::OcclusionPass pass);
 /// every drawn tetrahedron by repeated averaging.
 StageText coefficient_stage(render::VolumeScheme s);
 
-/// The isosurface renderer's occlusion culling (QSS and S31): the pass that culls each tetrahedron
-/// of a phase against the max-depth pyramid or gives its depth floor (`spline::tet_occlusion_bound`),
-/// and the pass that makes the pyramid's level 0 from the copy of the depth buffer.
-StageText occlusion_bound_stage(bool ortho);
+/// The isosurface renderer's occlusion culling: the pass that culls each element of a phase (a
+/// tetrahedron, or with `cells` a trilinear cell) against the max-depth pyramid or gives its depth
+/// floor (`spline::tet_occlusion_bound`, `cell_occlusion_bound`), and the pass that makes the
+/// pyramid's level 0 from the copy of the depth buffer.
+StageText occlusion_bound_stage(bool ortho, bool cells);
 StageText pyramid_base_stage();
 
 }  // namespace quadcast::gl

@@ -161,43 +161,44 @@ T clip_pad(const T& pixel, const Vec3<T>& v) {
     return max(T(min_clip_pad), (T(clip_pad_per_footprint) * pixel) * length(v));
 }
 
-/// What the isosurface renderer's occlusion culling knows of tetrahedron t of a cube
-/// (quadcast::gl::IsosurfaceRenderer): a lower bound `floor` of the window depth of every hit its
-/// fragment stage can find there, and the NDC rectangle [lo, hi] of its pixels, which holds when
-/// `visible` (every corner of the grown tetrahedron in front of the eye plane, clip w > 0).
-/// A tetrahedron whose floor lies behind the depth already drawn over its rectangle is not drawn;
-/// a fragment whose floor lies behind the depth drawn at its pixel is discarded before it casts.
+/// What the isosurface renderer's occlusion culling knows of an element (a tetrahedron of a spline
+/// cube, or a trilinear cell; quadcast::gl::IsosurfaceRenderer): a lower bound `floor` of the window
+/// depth of every hit its fragment stage can find there, and the NDC rectangle [lo, hi] of its
+/// pixels, which holds when `visible` (every corner of the grown element in front of the eye
+/// plane, clip w > 0). An element whose floor lies behind the depth already drawn over its
+/// rectangle is not drawn; a fragment whose floor lies behind the depth drawn at its pixel is
+/// discarded before it casts.
 template <class T>
-struct TetOcclusionBound {
+struct OcclusionBound {
     T floor;
     Vec2<T> lo, hi;
     mask_t<T> visible;
 };
 
-/// `TetOcclusionBound` of tetrahedron t of the cube with centre `c` (index space, s = 1/2);
-/// `corners` = its cube-local vertices (entries 0, ±1); other arguments as `cell_vertex`.
-/// The fragment stage clips to the tetrahedron grown by its pad (barycentric coordinates >= -pad),
-/// which is the tetrahedron scaled about its centroid by 1 + 4 pad; pad = `clip_pad` is largest
-/// where |v| is, and |v| (the cube-local ray direction, perspective: (p - eye) / s) is convex in
-/// p, so its largest value over the tetrahedron is at a corner. So both bounds take the corners
-/// scaled about their centroid by g = 1 + 4 pad_max + 2^-12 (rounding of the barycentric
-/// coordinates). floor: their view-space z (affine: the centroid's plus g times the offsets), the
-/// largest (nearest) moved nearer by 2^-16 of (|z| + the offsets), its window depth (as
-/// `window_depth` computes it) less 2^-20; perspective (pz[2] != 0): 0 (no bound) unless that z
-/// is in front of the eye (< 0). Rectangle: the scaled corners through view_proj, x / w and y / w.
+/// `OcclusionBound` of the convex element with the N corners c + s u_k (index space; u_k =
+/// `corners`, entries 0, ±1) that the fragment stage clips to after growing it about its centroid
+/// by the factor 1 + k pad (k = 4 for a tetrahedron: barycentric coordinates >= -pad; k = 2 for a
+/// cell: [-pad, 1 + pad]^3); other arguments as `cell_vertex`. pad = `clip_pad` is largest where
+/// |v| is, and |v| (the local ray direction, perspective: (p - eye) / s) is convex in p, so its
+/// largest value over the element is at a corner. So both bounds take the corners scaled about
+/// their centroid by g = 1 + k pad_max + 2^-12 (rounding of the element's coordinates). floor:
+/// their view-space z (affine: the centroid's plus g times the offsets), the largest (nearest)
+/// moved nearer by 2^-16 of (|z| + the offsets), its window depth (as `window_depth` computes it)
+/// less 2^-20; perspective (pz[2] != 0): 0 (no bound) unless that z is in front of the eye (< 0).
+/// Rectangle: the scaled corners through view_proj, x / w and y / w.
 /// Numerics: p = c + u s, x = origin + spacing ⊙ p; z = vz_row · (spacing ⊙ (p - eye_index))
 /// (perspective, as `cell_vertex`'s vz of dir) or vz_row · (x - eye_world) (orthographic, as its
-/// w), left folds; |v| = sqrt(v · v) with v as in `cell_vertex`; centroids (sum of the four, left fold) * 1/4; scaled
-/// corner = xc + g (x - xc); the rest as written.
-template <class T>
-TetOcclusionBound<T> tet_occlusion_bound(const Vec3<T>& c, const std::array<Vec3<T>, 4>& corners, const Vec3<T>& eye_index, const Vec3<T>& eye_world,
-                                         const Vec3<T>& forward_world, const Vec3<T>& origin, const Vec3<T>& spacing, const Mat4<T>& view_proj,
-                                         const Vec3<T>& vz_row, const Vec4<T>& pz, const T& pixel, bool ortho) {
-    const T s = T(0.5), inv_s = T(2);
-    std::array<Vec3<T>, 4> x{};
-    std::array<T, 4> z{};
+/// w), left folds; |v| = sqrt(v · v) with v as in `cell_vertex`; centroids (sum of the N, left
+/// fold) * 1/N; scaled corner = xc + g (x - xc); the rest as written.
+template <std::size_t N, class T>
+OcclusionBound<T> element_occlusion_bound(const Vec3<T>& c, const std::array<Vec3<T>, N>& corners, const T& s, const T& inv_s, const T& k_pad,
+                                          const Vec3<T>& eye_index, const Vec3<T>& eye_world, const Vec3<T>& forward_world, const Vec3<T>& origin,
+                                          const Vec3<T>& spacing, const Mat4<T>& view_proj, const Vec3<T>& vz_row, const Vec4<T>& pz, const T& pixel,
+                                          bool ortho) {
+    std::array<Vec3<T>, N> x{};
+    std::array<T, N> z{};
     T vmax = T(0);
-    for (std::size_t k = 0; k < 4; ++k) {
+    for (std::size_t k = 0; k < N; ++k) {
         const Vec3<T> p = c + corners[k] * s;
         x[k] = origin + cmul(spacing, p);
         Vec3<T> v{};
@@ -214,23 +215,28 @@ TetOcclusionBound<T> tet_occlusion_bound(const Vec3<T>& c, const std::array<Vec3
         vmax = max(vmax, length(v));
     }
     const T pad = max(T(min_clip_pad), (T(clip_pad_per_footprint) * pixel) * vmax);
-    const T g = (T(1) + T(4) * pad) + T(1.0 / 4096.0);
+    const T g = (T(1) + k_pad * pad) + T(1.0 / 4096.0);
+    const T inv_n = T(1.0 / double(N));
     // The floor
-    const T zc = (((z[0] + z[1]) + z[2]) + z[3]) * T(0.25);
+    T zsum = z[0];
+    for (std::size_t k = 1; k < N; ++k) zsum = zsum + z[k];
+    const T zc = zsum * inv_n;
     T off = (z[0] - zc) * g, extent = abs(z[0] - zc);
-    for (std::size_t k = 1; k < 4; ++k) {
+    for (std::size_t k = 1; k < N; ++k) {
         off = max(off, (z[k] - zc) * g);
         extent = max(extent, abs(z[k] - zc));
     }
     const T zn = zc + off;
     const T zf = zn + (abs(zn) + extent * g) * T(1.0 / 65536.0);
     const T depth = T(0.5) * ((pz[0] * zf + pz[1]) / (pz[2] * zf + pz[3])) + T(0.5) - T(1.0 / 1048576.0);
-    TetOcclusionBound<T> b{};
+    OcclusionBound<T> b{};
     b.floor = select(pz[2] != T(0) && zf >= T(0), T(0), depth);
     // The rectangle
-    const Vec3<T> xc = (((x[0] + x[1]) + x[2]) + x[3]) * T(0.25);
+    Vec3<T> xsum = x[0];
+    for (std::size_t k = 1; k < N; ++k) xsum = xsum + x[k];
+    const Vec3<T> xc = xsum * inv_n;
     b.visible = mask_t<T>(true);
-    for (std::size_t k = 0; k < 4; ++k) {
+    for (std::size_t k = 0; k < N; ++k) {
         const Vec3<T> xg = xc + (x[k] - xc) * g;
         const Vec4<T> q = view_proj * vec4(xg[0], xg[1], xg[2], T(1));
         b.visible = b.visible && q[3] > T(0);
@@ -240,6 +246,26 @@ TetOcclusionBound<T> tet_occlusion_bound(const Vec3<T>& c, const std::array<Vec3
         b.hi = k == 0 ? n : vec2(max(b.hi[0], n[0]), max(b.hi[1], n[1]));
     }
     return b;
+}
+
+/// `element_occlusion_bound` of tetrahedron t of the spline cube with centre `c` (s = 1/2, the
+/// cube [-1, 1]^3 in its local coordinates); `corners` = the tetrahedron's cube-local vertices.
+template <class T>
+OcclusionBound<T> tet_occlusion_bound(const Vec3<T>& c, const std::array<Vec3<T>, 4>& corners, const Vec3<T>& eye_index, const Vec3<T>& eye_world,
+                                      const Vec3<T>& forward_world, const Vec3<T>& origin, const Vec3<T>& spacing, const Mat4<T>& view_proj,
+                                      const Vec3<T>& vz_row, const Vec4<T>& pz, const T& pixel, bool ortho) {
+    return element_occlusion_bound<4>(c, corners, T(0.5), T(2), T(4), eye_index, eye_world, forward_world, origin, spacing, view_proj, vz_row, pz, pixel, ortho);
+}
+
+/// `element_occlusion_bound` of the trilinear cell with lower corner `c` (s = 1, the cell [0, 1]^3
+/// in its local coordinates; corner k at (k & 1, k >> 1 & 1, k >> 2 & 1)).
+template <class T>
+OcclusionBound<T> cell_occlusion_bound(const Vec3<T>& c, const Vec3<T>& eye_index, const Vec3<T>& eye_world, const Vec3<T>& forward_world,
+                                       const Vec3<T>& origin, const Vec3<T>& spacing, const Mat4<T>& view_proj, const Vec3<T>& vz_row, const Vec4<T>& pz,
+                                       const T& pixel, bool ortho) {
+    std::array<Vec3<T>, 8> corners{};
+    for (std::size_t k = 0; k < 8; ++k) corners[k] = vec3(T(double(k & 1)), T(double(k >> 1 & 1)), T(double(k >> 2 & 1)));
+    return element_occlusion_bound<8>(c, corners, T(1), T(1), T(2), eye_index, eye_world, forward_world, origin, spacing, view_proj, vz_row, pz, pixel, ortho);
 }
 
 /// The fragment stage of a spline tetrahedron (Kalbe & Zeilfelder 2008, Sect. 5.3): the ray
