@@ -157,18 +157,26 @@ inline void put_cell_camera(std::mt19937& rng, std::span<float> in, std::size_t&
     put(in, p, vz_row);
 }
 
-/// The isosurface renderer's occlusion culling: a lower bound of the window depth of a
-/// tetrahedron's hits and the NDC rectangle of its pixels (`tet_occlusion_bound`), per camera kind.
-template <bool Ortho>
-struct TetOcclusionBoundKernel {
-    static constexpr const char* name = Ortho ? "tet_occlusion_bound_ortho" : "tet_occlusion_bound_perspective";
-    static constexpr const char* source = "quadcast::spline::tet_occlusion_bound (quadcast/spline/render.hpp)";
-    static constexpr const char* summary = Ortho ? "isosurface renderer, occlusion culling: depth floor and NDC rectangle of a tetrahedron's hits, orthographic camera"
-                                                 : "isosurface renderer, occlusion culling: depth floor and NDC rectangle of a tetrahedron's hits, perspective camera";
+/// The isosurface renderer's occlusion culling: a lower bound of the window depth of an element's
+/// hits and the NDC rectangle of its pixels, per camera kind: a tetrahedron of a spline cube
+/// (`tet_occlusion_bound`, its cube-local corners as inputs) or a trilinear cell
+/// (`cell_occlusion_bound`).
+template <bool Ortho, bool Cell>
+struct OcclusionBoundKernel {
+    static constexpr const char* name = Cell ? (Ortho ? "cell_occlusion_bound_ortho" : "cell_occlusion_bound_perspective")
+                                             : (Ortho ? "tet_occlusion_bound_ortho" : "tet_occlusion_bound_perspective");
+    static constexpr const char* source = Cell ? "quadcast::spline::cell_occlusion_bound (quadcast/spline/render.hpp)"
+                                               : "quadcast::spline::tet_occlusion_bound (quadcast/spline/render.hpp)";
+    static constexpr const char* summary =
+        Cell ? (Ortho ? "isosurface renderer, occlusion culling: depth floor and NDC rectangle of a trilinear cell's hits, orthographic camera"
+                      : "isosurface renderer, occlusion culling: depth floor and NDC rectangle of a trilinear cell's hits, perspective camera")
+             : (Ortho ? "isosurface renderer, occlusion culling: depth floor and NDC rectangle of a tetrahedron's hits, orthographic camera"
+                      : "isosurface renderer, occlusion culling: depth floor and NDC rectangle of a tetrahedron's hits, perspective camera");
     template <class IO> static void run(IO& io) {
         const auto c = io.template vec<3>("anchor");
         std::array<Vec3<typename IO::T>, 4> u{};
-        for (int k = 0; k < 4; ++k) u[static_cast<std::size_t>(k)] = io.template vec<3>(corner_names[k]);
+        if constexpr (!Cell)
+            for (int k = 0; k < 4; ++k) u[static_cast<std::size_t>(k)] = io.template vec<3>(corner_names[k]);
         const auto eye_index = io.template vec<3>("eye_index");
         const auto eye_world = io.template vec<3>("eye_world");
         const auto forward = io.template vec<3>("forward_world");
@@ -178,7 +186,9 @@ struct TetOcclusionBoundKernel {
         const auto vz_row = io.template vec<3>("vz_row");
         const auto pz = io.template vec<4>("pz");
         const auto pixel = io.scalar("pixel");
-        const spline::OcclusionBound<typename IO::T> b = spline::tet_occlusion_bound(c, u, eye_index, eye_world, forward, origin, spacing, view_proj, vz_row, pz, pixel, Ortho);
+        const spline::OcclusionBound<typename IO::T> b =
+            Cell ? spline::cell_occlusion_bound(c, eye_index, eye_world, forward, origin, spacing, view_proj, vz_row, pz, pixel, Ortho)
+                 : spline::tet_occlusion_bound(c, u, eye_index, eye_world, forward, origin, spacing, view_proj, vz_row, pz, pixel, Ortho);
         io.out("floor", b.floor);
         io.out("lo", b.lo);
         io.out("hi", b.hi);
@@ -189,45 +199,10 @@ struct TetOcclusionBoundKernel {
         std::size_t p = 0;
         const auto cell = [&] { return float(std::uniform_int_distribution<int>(0, 500)(rng)); };
         put(in, p, vec3(cell(), cell(), cell()));
-        const auto v = spline::tet_vertices(std::uniform_int_distribution<int>(0, spline::tets_per_cube - 1)(rng));
-        for (const auto& k : v) put(in, p, vec3(float(k[0]), float(k[1]), float(k[2])));
-        put_cell_camera(rng, in, p);
-        Vec4<float> pz{};
-        float vz = 0;
-        random_depth_terms(rng, Ortho, pz, vz);
-        put(in, p, pz);
-        put(in, p, std::ldexp(1.0f, std::uniform_int_distribution<int>(-14, -6)(rng)) * uniform(rng, 1.0f, 2.0f));  // pixel
-    }
-};
-
-/// The same for a trilinear cell (`cell_occlusion_bound`).
-template <bool Ortho>
-struct CellOcclusionBoundKernel {
-    static constexpr const char* name = Ortho ? "cell_occlusion_bound_ortho" : "cell_occlusion_bound_perspective";
-    static constexpr const char* source = "quadcast::spline::cell_occlusion_bound (quadcast/spline/render.hpp)";
-    static constexpr const char* summary = Ortho ? "isosurface renderer, occlusion culling: depth floor and NDC rectangle of a trilinear cell's hits, orthographic camera"
-                                                 : "isosurface renderer, occlusion culling: depth floor and NDC rectangle of a trilinear cell's hits, perspective camera";
-    template <class IO> static void run(IO& io) {
-        const auto c = io.template vec<3>("anchor");
-        const auto eye_index = io.template vec<3>("eye_index");
-        const auto eye_world = io.template vec<3>("eye_world");
-        const auto forward = io.template vec<3>("forward_world");
-        const auto origin = io.template vec<3>("origin");
-        const auto spacing = io.template vec<3>("spacing");
-        const Mat4<typename IO::T> view_proj = io.template mat<4>("view_proj");
-        const auto vz_row = io.template vec<3>("vz_row");
-        const auto pz = io.template vec<4>("pz");
-        const auto pixel = io.scalar("pixel");
-        const spline::OcclusionBound<typename IO::T> b = spline::cell_occlusion_bound(c, eye_index, eye_world, forward, origin, spacing, view_proj, vz_row, pz, pixel, Ortho);
-        io.out("floor", b.floor);
-        io.out("lo", b.lo);
-        io.out("hi", b.hi);
-        io.out("visible", b.visible);
-    }
-    static void generate(std::mt19937& rng, std::span<float> in) {
-        std::size_t p = 0;
-        const auto cell = [&] { return float(std::uniform_int_distribution<int>(0, 500)(rng)); };
-        put(in, p, vec3(cell(), cell(), cell()));
+        if constexpr (!Cell) {
+            const auto v = spline::tet_vertices(std::uniform_int_distribution<int>(0, spline::tets_per_cube - 1)(rng));
+            for (const auto& k : v) put(in, p, vec3(float(k[0]), float(k[1]), float(k[2])));
+        }
         put_cell_camera(rng, in, p);
         Vec4<float> pz{};
         float vz = 0;

@@ -3,6 +3,7 @@
 // cache or record packing).
 
 #include "quadcast/gl/quadric_renderer.hpp"
+#include "quadcast/gl/depth_pyramid.hpp"
 
 #include <algorithm>
 #include <array>
@@ -558,25 +559,17 @@ private:
     /// Dispatches `n` workgroups of a pass over records in rows of at most `row_limit_` (65535,
     /// GL's guaranteed limit per dimension; the shaders number them by `qc_linear_group`, and a
     /// cull pass workgroup past the records returns).
-    void dispatch_rows(const Api& gl, std::uint32_t n) const {
-        if (n == 0) return;
-        const std::uint32_t x = std::min<std::uint32_t>(n, row_limit_);
-        gl.DispatchCompute(x, (n + x - 1) / x, 1);
-    }
+    void dispatch_rows(const Api& gl, std::uint32_t n) const { gl::dispatch_rows(gl, n, row_limit_); }
 
     void run_cull_pass(const render::Camera& cam, const render::RenderOptions& opt, int width, int height, const Phase& ph) {
         const Api& gl = *api_;
         const auto w = static_cast<std::uint32_t>(width), h = static_cast<std::uint32_t>(height);
         // Pyramid levels down to 1 x 1, level 0 the viewport.
-        std::vector<std::array<std::uint32_t, 3>> levels{{0u, w, h}};
-        while (levels.back()[1] > 1 || levels.back()[2] > 1) {
-            const auto& b = levels.back();
-            levels.push_back({b[0] + b[1] * b[2], (b[1] + 1) / 2, (b[2] + 1) / 2});
-        }
+        const std::vector<std::array<std::uint32_t, 3>> levels = pyramid_levels(w, h);
         // Earlier frames', the shadow pass's and the earlier phases' reads and writes of these
         // buffers (and of the depth target) are done.
         gl.MemoryBarrier(GL_ALL_BARRIER_BITS);
-        const std::size_t texels = levels.back()[0] + 1;
+        const std::size_t texels = pyramid_texels(levels);
         if (texels > depth_texels_) {  // grown only (the shadow map's pass and the camera's share it)
             upload(depths_, std::vector<std::uint32_t>(texels));
             depth_texels_ = texels;
@@ -634,14 +627,7 @@ private:
         }
         gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
         // 2. The max-depth pyramid.
-        const Program& pyr = programs_.get(render::OcclusionKey{render::OcclusionPass::pyramid});
-        gl.UseProgram(pyr.id());
-        for (std::size_t l = 1; l < levels.size(); ++l) {
-            gl.Uniform3ui(pyr.uniform_location("qc_src"), levels[l - 1][0], levels[l - 1][1], levels[l - 1][2]);
-            gl.Uniform3ui(pyr.uniform_location("qc_dst"), levels[l][0], levels[l][1], levels[l][2]);
-            gl.DispatchCompute(groups(levels[l][1], 8), groups(levels[l][2], 8), 1);
-            gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-        }
+        build_pyramid(gl, programs_.get(render::OcclusionKey{render::OcclusionPass::pyramid}), levels);
         // 3. The cull pass, from zeroed commands (and, in the first phase, zeroed counts).
         std::uint32_t cmds[5 * render::variant_count + 2] = {};  // the commands, then the counts of culled primitives
         for (int v = 0; v < render::variant_count; ++v) {
@@ -669,11 +655,7 @@ private:
         common(cull);
 
         gl.Uniform1ui(cull.uniform_location("qc_stats_at"), static_cast<GLuint>(5 * render::variant_count));
-        std::vector<GLuint> lv;
-        for (const auto& l : levels) lv.insert(lv.end(), l.begin(), l.end());
-        const int level_count = static_cast<int>(std::min<std::size_t>(levels.size(), 16));
-        gl.Uniform3uiv(cull.uniform_location("qc_levels"), level_count, lv.data());
-        gl.Uniform1i(cull.uniform_location("qc_level_count"), level_count);
+        set_pyramid_uniforms(gl, cull, levels);
         for (int v = 0; v < render::variant_count; ++v) {
             if (!runs(v)) continue;
             const bool planes = static_cast<render::Variant>(v) == render::Variant::planes;

@@ -475,7 +475,7 @@ TEST_CASE("tet_occlusion_bound, cell_occlusion_bound: every hit the fragment sta
             for (int r = 0; r < 4; ++r)
                 for (int col = 0; col < 4; ++col) q[r] += static_cast<long double>(vp[col][r]) * xh[col];
             if (!ortho && !(z < -near)) continue;  // (not between the near and far planes: no fragment)
-            const long double depth = 0.5L * (pz[0] * z + pz[1]) / (pz[2] * z + pz[3]) + 0.5L;
+            const long double depth = window_depth(z, 1.0L, Vec4<long double>{{pz[0], pz[1], pz[2], pz[3]}});
             if (depth < 0 || depth > 1) continue;
             ++points;
             CAPTURE(it);

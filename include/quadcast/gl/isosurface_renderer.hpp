@@ -29,6 +29,7 @@
 #include <string>
 #include <vector>
 
+#include "quadcast/gl/depth_pyramid.hpp"
 #include "quadcast/gl/generated_programs.hpp"
 #include "quadcast/gl/loader.hpp"
 #include "quadcast/gl/program.hpp"
@@ -375,18 +376,9 @@ private:
         const Api& gl = *api_;
         GLint vp[4] = {0, 0, 0, 0};
         gl.GetIntegerv(GL_VIEWPORT, vp);
-        GLuint levels[16][3];
-        std::size_t texels = 0;
-        int level_count = 0;
-        for (GLuint w = GLuint(vp[2]), h = GLuint(vp[3]);; w = (w + 1) / 2, h = (h + 1) / 2) {
-            if (level_count == 16) return false;
-            levels[level_count][0] = static_cast<GLuint>(texels);
-            levels[level_count][1] = w;
-            levels[level_count][2] = h;
-            texels += std::size_t(w) * h;
-            ++level_count;
-            if (w == 1 && h == 1) break;
-        }
+        const std::vector<std::array<std::uint32_t, 3>> levels = pyramid_levels(GLuint(vp[2]), GLuint(vp[3]));
+        if (levels.size() > 16) return false;
+        const std::size_t texels = pyramid_texels(levels);
         if (texels > pyramid_texels_) {
             if (!pyramid_) gl.GenBuffers(1, &pyramid_);
             gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, pyramid_);
@@ -400,25 +392,15 @@ private:
         gl.Uniform1i(base.uniform_location("qc_drawn_depth"), static_cast<GLint>(drawn_unit));
         gl.Uniform4i(base.uniform_location("qc_viewport_rect"), vp[0], vp[1], vp[2], vp[3]);
         gl.DispatchCompute((GLuint(vp[2]) + 7) / 8, (GLuint(vp[3]) + 7) / 8, 1);
-        const Program& pyr = programs_.get(render::OcclusionKey{render::OcclusionPass::pyramid});
-        gl.UseProgram(pyr.id());
-        for (int l = 1; l < level_count; ++l) {
-            gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-            gl.Uniform3ui(pyr.uniform_location("qc_src"), levels[l - 1][0], levels[l - 1][1], levels[l - 1][2]);
-            gl.Uniform3ui(pyr.uniform_location("qc_dst"), levels[l][0], levels[l][1], levels[l][2]);
-            gl.DispatchCompute((levels[l][1] + 7) / 8, (levels[l][2] + 7) / 8, 1);
-        }
-        gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        build_pyramid(gl, programs_.get(render::OcclusionKey{render::OcclusionPass::pyramid}), levels);
         const Program& cp = programs_.occlusion_bounds(cam.orthographic, v.model->scheme == render::VolumeScheme::trilinear);
         gl.UseProgram(cp.id());
         set_uniforms(cp, *v.model, cam, light, opt);
         gl.Uniform1ui(cp.uniform_location("qc_first"), static_cast<GLuint>(first));
         gl.Uniform1ui(cp.uniform_location("qc_count"), static_cast<GLuint>(count));
         gl.Uniform2f(cp.uniform_location("qc_viewport"), float(vp[2]), float(vp[3]));
-        gl.Uniform3uiv(cp.uniform_location("qc_levels"), level_count, &levels[0][0]);
-        gl.Uniform1i(cp.uniform_location("qc_level_count"), level_count);
-        const auto groups = static_cast<std::uint32_t>((count + 63) / 64), gx = std::min<std::uint32_t>(groups, 65535u);
-        gl.DispatchCompute(gx, (groups + gx - 1) / gx, 1);
+        set_pyramid_uniforms(gl, cp, levels);
+        dispatch_rows(gl, static_cast<std::uint32_t>((count + 63) / 64));
         gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
         return true;
     }
@@ -449,8 +431,7 @@ private:
             gl.Uniform1ui(cp.uniform_location("qc_first"), static_cast<GLuint>(first));
             gl.Uniform1ui(cp.uniform_location("qc_count"), static_cast<GLuint>(count));
             gl.Uniform1i(cp.uniform_location("qc_occlusion"), occluded ? 1 : 0);
-            const auto groups = static_cast<std::uint32_t>((count + 63) / 64), gx = std::min<std::uint32_t>(std::max<std::uint32_t>(groups, 1), 65535u);
-            gl.DispatchCompute(gx, (groups + gx - 1) / gx, 1);
+            dispatch_rows(gl, static_cast<std::uint32_t>((count + 63) / 64));
             gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
         };
         // Occlusion culling (tetrahedra): the elements in phases, nearest first; before each later
@@ -563,7 +544,7 @@ private:
             return v.all_count;
         }
         const auto n = static_cast<std::uint32_t>(v.all_count);
-        const std::uint32_t groups = (n + 63) / 64, gx = std::min<std::uint32_t>(groups, 65535u), gy = (groups + gx - 1) / gx;
+        const std::uint32_t groups = (n + 63) / 64;
         gl.MemoryBarrier(GL_ALL_BARRIER_BITS);  // (the last frame's reads of these buffers)
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, v.listed);
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, v.all);
@@ -577,7 +558,6 @@ private:
             const Program& cc = programs_.get(render::OcclusionKey{render::OcclusionPass::element_cull_cubes});
             gl.UseProgram(cc.id());
             const auto nc = static_cast<std::uint32_t>(m.cubes.size());
-            const std::uint32_t cg = (nc + 63) / 64, cx = std::min<std::uint32_t>(std::max<std::uint32_t>(cg, 1), 65535u);
             gl.Uniform1ui(cc.uniform_location("qc_count"), nc);
             gl.Uniform3i(cc.uniform_location("qc_dims"), m.nx, m.ny, m.nz);
             gl.Uniform3fv(cc.uniform_location("qc_origin"), 1, origin);
@@ -585,7 +565,7 @@ private:
             gl.UniformMatrix4fv(cc.uniform_location("qc_view_proj"), 1, GL_FALSE, &vp[0][0]);
             gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, v.cubes);
             gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 9, v.cube_kept);
-            gl.DispatchCompute(cx, (cg + cx - 1) / cx, 1);
+            dispatch_rows(gl, (nc + 63) / 64);
             gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
         }
         const Program& cull = programs_.get(render::OcclusionKey{tri ? render::OcclusionPass::element_cull_cells : render::OcclusionPass::element_cull_tets});
@@ -594,7 +574,7 @@ private:
         gl.Uniform3fv(cull.uniform_location("qc_origin"), 1, origin);
         gl.Uniform3fv(cull.uniform_location("qc_spacing"), 1, spacing);
         gl.UniformMatrix4fv(cull.uniform_location("qc_view_proj"), 1, GL_FALSE, &vp[0][0]);
-        gl.DispatchCompute(gx, gy, 1);
+        dispatch_rows(gl, groups);
         gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
         const Program& scan = programs_.get(render::OcclusionKey{render::OcclusionPass::scan});
         gl.UseProgram(scan.id());
@@ -606,7 +586,7 @@ private:
         const Program& compact = programs_.get(render::OcclusionKey{render::OcclusionPass::element_compact});
         gl.UseProgram(compact.id());
         gl.Uniform1ui(compact.uniform_location("qc_count"), n);
-        gl.DispatchCompute(gx, gy, 1);
+        dispatch_rows(gl, groups);
         gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
         for (GLuint b : {3u, 5u, 6u, 7u, 8u, 9u}) gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, b, 0);
         std::uint32_t kept = 0;

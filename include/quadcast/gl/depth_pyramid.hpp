@@ -1,0 +1,65 @@
+// quadcast/gl/depth_pyramid.hpp -- host plumbing of the occlusion passes: pyramid layout, pyramid build, dispatch in rows
+#pragma once
+// Host-only. Shared by the quadric renderer's cull pass and the isosurface renderer's phases.
+
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "quadcast/gl/loader.hpp"
+#include "quadcast/gl/program.hpp"
+
+namespace quadcast::gl {
+
+/// The levels of a max-depth pyramid over a w x h base down to 1 x 1, packed in one buffer:
+/// per level (offset, width, height); each level halves the one below, rounding up.
+inline std::vector<std::array<std::uint32_t, 3>> pyramid_levels(std::uint32_t w, std::uint32_t h) {
+    std::vector<std::array<std::uint32_t, 3>> levels{{0u, w, h}};
+    while (levels.back()[1] > 1 || levels.back()[2] > 1) {
+        const auto& b = levels.back();
+        levels.push_back({b[0] + b[1] * b[2], (b[1] + 1) / 2, (b[2] + 1) / 2});
+    }
+    return levels;
+}
+
+/// Texels of all `levels` (the buffer's size in uints).
+inline std::size_t pyramid_texels(const std::vector<std::array<std::uint32_t, 3>>& levels) {
+    const auto& l = levels.back();
+    return std::size_t(l[0]) + std::size_t(l[1]) * l[2];
+}
+
+/// Levels 1 .. of a pyramid whose level 0 is written, in the buffer bound at binding 3, each the
+/// max of the texels below it (`pyr`: the program of OcclusionPass::pyramid), with the barriers
+/// between them and after the last.
+inline void build_pyramid(const Api& gl, const Program& pyr, const std::vector<std::array<std::uint32_t, 3>>& levels) {
+    gl.UseProgram(pyr.id());
+    for (std::size_t l = 1; l < levels.size(); ++l) {
+        gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        gl.Uniform3ui(pyr.uniform_location("qc_src"), levels[l - 1][0], levels[l - 1][1], levels[l - 1][2]);
+        gl.Uniform3ui(pyr.uniform_location("qc_dst"), levels[l][0], levels[l][1], levels[l][2]);
+        gl.DispatchCompute((levels[l][1] + 7) / 8, (levels[l][2] + 7) / 8, 1);
+    }
+    gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+}
+
+/// Sets the cull passes' uniforms qc_levels[16] and qc_level_count of `p` (bound) from `levels`
+/// (at most the first 16).
+inline void set_pyramid_uniforms(const Api& gl, const Program& p, const std::vector<std::array<std::uint32_t, 3>>& levels) {
+    std::vector<GLuint> lv;
+    for (const auto& l : levels) lv.insert(lv.end(), l.begin(), l.end());
+    const int level_count = static_cast<int>(std::min<std::size_t>(levels.size(), 16));
+    gl.Uniform3uiv(p.uniform_location("qc_levels"), level_count, lv.data());
+    gl.Uniform1i(p.uniform_location("qc_level_count"), level_count);
+}
+
+/// Dispatches n workgroups of a pass over records (none for n = 0) in rows of at most
+/// `row_limit` (65535, GL's guaranteed limit per dimension); the shaders number a workgroup
+/// gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x and return past their records.
+inline void dispatch_rows(const Api& gl, std::uint32_t n, std::uint32_t row_limit = 65535u) {
+    if (n == 0) return;
+    const std::uint32_t x = std::min<std::uint32_t>(n, row_limit);
+    gl.DispatchCompute(x, (n + x - 1) / x, 1);
+}
+
+}  // namespace quadcast::gl
