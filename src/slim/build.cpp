@@ -103,12 +103,13 @@ struct Context {
     double diagonal, threshold;
 };
 
-Record make_record(const LocalFit& f, const Vec3d& c, double r) {
+/// The record of a fit in the ball (c, r), drawn in the ball (c, t r) (t: its support fraction).
+Record make_record(const LocalFit& f, const Vec3d& c, double r, double t = 1) {
     Record rec;
-    rec.local = f.local;
     rec.ball.center = c;
-    rec.ball.radius = r;
+    rec.ball.radius = t * r;
     rec.ball.q = local_to_world(f.local, c, r);
+    rec.local = t == 1 ? f.local : world_to_local(rec.ball.q, c, t * r);
     return rec;
 }
 
@@ -139,21 +140,66 @@ void two_means(const std::vector<Vec3d>& n, const std::vector<std::uint32_t>& id
     }
 }
 
-/// The support check (BuildOptions::support_check): the zero set of the local quadric inside the
-/// ball (and on the kept side of `plane` when given, world coordinates) lies near the input points.
-/// Sampled where the lines parallel to the three axes through a 7 x 7 grid of [-1, 1]^2 (local
-/// coordinates) cross it; every sample needs an input point within 2 h, h = r sqrt(pi / m) the
-/// spacing of m points on a disc of radius r (at least 2 E). A quadric continued past an edge
-/// (a plane beyond the last face points) or a second sheet in the ball fails it.
-bool supported(const Context& cx, const Quadric<double>& local, const Vec3d& c, double r, const Vec4d* plane, std::size_t m) {
+/// The boundary part of the support check (BuildOptions::support_max_gap_degrees): the input
+/// points of `near` whose normals lie within 60 degrees of the gradient g at the zero-set sample
+/// x (the sheet's own points), projected onto the tangent plane at x, surround x: seen from x,
+/// no angle between consecutive ones exceeds the maximum gap. Inside a sheet they surround it; on
+/// the sheet's edge (a face's crease, a point cloud's border) they fill half the circle; past it
+/// (a plane continued beyond its face: a fin) less. Fewer than three such points never surround.
+bool surrounded(const Context& cx, const Vec3d& x, const Vec3d& g, const std::vector<std::uint32_t>& near, std::vector<double>& angles) {
+    const double gl = length(g);
+    if (!(gl > 0)) return false;
+    const Vec3d n = g * (1 / gl);
+    // A tangent basis (t1, t2) of the plane normal to n.
+    const Vec3d a = std::fabs(n[0]) < 0.6 ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 1.0, 0.0);
+    const Vec3d t1 = normalize(cross(n, a)), t2 = cross(n, t1);
+    angles.clear();
+    for (const std::uint32_t i : near) {
+        if (!(dot(cx.pts.normals[i], n) > 0.5)) continue;
+        const Vec3d d = cx.pts.positions[i] - x;
+        const double p = dot(d, t1), q = dot(d, t2);
+        if (p == 0 && q == 0) continue;  // on the normal line: no direction
+        angles.push_back(std::atan2(q, p));
+    }
+    if (angles.size() < 3) return false;
+    std::sort(angles.begin(), angles.end());
+    double gap = 2 * std::numbers::pi + angles.front() - angles.back();
+    for (std::size_t k = 1; k < angles.size(); ++k) gap = std::max(gap, angles[k] - angles[k - 1]);
+    return gap <= cx.opt.support_max_gap_degrees * std::numbers::pi / 180;
+}
+
+/// The support check (BuildOptions::support_check): how far from the centre the zero set of the
+/// local quadric inside the ball (and on the kept side of `plane` when given, world coordinates)
+/// lies near the input points. Sampled where the lines parallel to the three axes through a 9 x 9
+/// grid of [-1, 1]^2 (local coordinates) cross it. A sample x passes when
+///  - an input point within 2 h of it (h = r sqrt(pi / m), the spacing of m points on a disc of
+///    radius r; at least 2 E) has a normal n with n . g > support_normal_cos |g| (g the gradient
+///    at x): a second sheet, or a sheet folded back through the points, fails;
+///  - and (`surrounded`) the points within 3 h whose normals are within 60 degrees of g leave no
+///    angular gap wider than support_max_gap_degrees around x: a quadric continued past a crease
+///    or a border (a fin) fails. Within 2 h of where the sheet crosses the clip plane, its
+///    intended edge, this test is skipped.
+/// Returns the smallest |u| of a failing sample (1 when none fails): the ball of that radius
+/// (relative to r) holds only supported samples. Returns early, with a value below `floor`, once a
+/// failing sample nearer than `floor` is found.
+double support_fraction(const Context& cx, const Quadric<double>& local, const Vec3d& c, double r, const Vec4d* plane, std::size_t m,
+                        double floor) {
     const double support = std::max(2.0 * r * std::sqrt(std::numbers::pi / double(std::max<std::size_t>(m, 1))), 2.0 * cx.threshold);
-    std::vector<std::uint32_t> near;
+    const double gap_radius = 1.5 * support;
+    const bool gap_test = cx.opt.support_max_gap_degrees < 360;
+    std::vector<std::uint32_t> near, agreeing_range;
+    std::vector<double> angles;
+    double t = 1;
+    // Lines about a support distance apart (9 to 25 per side): a fin narrower than the lines'
+    // spacing can lie between them.
+    const int lines = std::clamp(int(std::ceil(2 * r / support)) + 1, 9, cx.opt.support_max_lines);
+    const double half = 0.5 * (lines - 1), spacing = 1.0 / (0.5 * lines);
     for (int a = 0; a < 3; ++a)
-        for (int i = 0; i < 7; ++i)
-            for (int j = 0; j < 7; ++j) {
+        for (int i = 0; i < lines; ++i)
+            for (int j = 0; j < lines; ++j) {
                 Vec3d p = vec3(0.0, 0.0, 0.0), e = vec3(0.0, 0.0, 0.0);
-                p[(a + 1) % 3] = (i - 3) / 3.5;
-                p[(a + 2) % 3] = (j - 3) / 3.5;
+                p[(a + 1) % 3] = (i - half) * spacing;
+                p[(a + 2) % 3] = (j - half) * spacing;
                 e[a] = 1.0;
                 // f(p + s e) = A s^2 + B s + C from three values
                 const double fm = evaluate(local, p - e), f0 = evaluate(local, p), fp = evaluate(local, p + e);
@@ -173,21 +219,49 @@ bool supported(const Context& cx, const Quadric<double>& local, const Vec3d& c, 
                 }
                 for (int k = 0; k < n; ++k) {
                     const Vec3d u = p + e * roots[k];
-                    if (!(dot(u, u) <= 1.0)) continue;
+                    const double uu = dot(u, u);
+                    if (!(uu < t * t)) continue;  // outside the ball, or no nearer than a failure found
                     const Vec3d x = c + u * r;
-                    if (plane && dot(xyz(*plane), x) + (*plane)[3] < 0) continue;
-                    cx.grid.query(x, support, near);
+                    const double side = plane ? dot(xyz(*plane), x) + (*plane)[3] : 0.0;
+                    if (side < 0) continue;
+                    cx.grid.query(x, gap_test ? gap_radius : support, near);
                     // ... and one of them with a normal on the sample's side: a sheet folded back
                     // or a second sheet near other points has the opposite orientation.
                     const Vec3d g = gradient(local, u);
                     bool agrees = false;
-                    for (const std::uint32_t i : near)
-                        if (dot(cx.pts.normals[i], g) > cx.opt.support_normal_cos * length(g)) { agrees = true; break; }
-                    if (!agrees) return false;
+                    for (const std::uint32_t i : near) {
+                        const Vec3d d = cx.pts.positions[i] - x;
+                        if (dot(d, d) <= support * support && dot(cx.pts.normals[i], g) > cx.opt.support_normal_cos * length(g)) {
+                            agrees = true;
+                            break;
+                        }
+                    }
+                    // The clip plane ends the sheet: within 2 h of their crossing, measured in the
+                    // sheet (side / sin of the angle between the sheet and the plane), the sheet's
+                    // points fill only half of the circle. (A sheet parallel to its plane, as in
+                    // a thin shell's pair, never comes near the crossing.)
+                    bool at_plane = false;
+                    if (plane) {
+                        const double gl = length(g);
+                        const double cos_gm = gl > 0 ? dot(g, xyz(*plane)) / gl : 1.0;
+                        const double sin2 = std::max(0.0, 1 - cos_gm * cos_gm);
+                        at_plane = side * side < support * support * sin2;
+                    }
+                    const bool ok = agrees && (!gap_test || at_plane || surrounded(cx, x, g, near, angles));
+                    if (ok) continue;
+                    t = std::sqrt(uu);
+                    if (t < floor) return t;
                 }
             }
-    return true;
+    return t;
 }
+
+/// The radius fraction a record keeps of its fitting ball, from its support fraction: all of it
+/// when every sample passed, else 0.9 of the distance to the nearest failing one (the sampled
+/// lines are 0.22 r apart: a fin starts a little nearer than where a line finds it).
+double kept_fraction(double support) { return support >= 1 ? 1.0 : 0.9 * support; }
+
+bool attempt_pair(const Context& cx, const Vec3d& c, double r, const std::vector<std::uint32_t>& idx, SeedResult& out);
 
 /// Tries the ball (c, r) of `points`: a single quadric, else a sharp pair. `ok` when accepted.
 bool attempt_quadrics(const Context& cx, const Vec3d& c, double r, const std::vector<std::uint32_t>& idx, SeedResult& out) {
@@ -199,10 +273,23 @@ bool attempt_quadrics(const Context& cx, const Vec3d& c, double r, const std::ve
     out.radius = r;
     ++out.fits;
     const LocalFit single = fit_ball(P, N, idx, c, r, cx.opt.fit);
-    const bool single_ok = single.solved && single.oriented && single.max_distance <= cx.threshold &&
-                           (!cx.opt.support_check || supported(cx, single.local, c, r, nullptr, idx.size()));
-    if (single.solved) out.records.push_back(make_record(single, c, r));
+    bool single_ok = single.solved && single.oriented && single.max_distance <= cx.threshold;
+    double t = 1;
+    if (single_ok && cx.opt.support_check) {
+        t = support_fraction(cx, single.local, c, r, nullptr, idx.size(), cx.opt.min_support_fraction);
+        single_ok = t >= cx.opt.min_support_fraction;
+    }
+    // (Rejected: the whole ball's record, which grow_ball's forced case checks again.)
+    if (single.solved) out.records.push_back(make_record(single, c, r, single_ok ? kept_fraction(t) : 1.0));
     if (single_ok || !cx.opt.sharp_features) return single_ok;
+    return attempt_pair(cx, c, r, idx, out);
+}
+
+/// The sharp pair of the ball (c, r) (build.hpp, step 4). On success `out` holds the two records
+/// and the points' sides; otherwise `out` is unchanged.
+bool attempt_pair(const Context& cx, const Vec3d& c, double r, const std::vector<std::uint32_t>& idx, SeedResult& out) {
+    const auto& P = cx.pts.positions;
+    const auto& N = cx.pts.normals;
     // Split the normals; a pair needs two distinct, large enough clusters.
     std::vector<unsigned char> label;
     Vec3d m0{}, m1{};
@@ -213,6 +300,17 @@ bool attempt_quadrics(const Context& cx, const Vec3d& c, double r, const std::ve
     for (std::size_t k = 0; k < idx.size(); ++k) side[label[k]].push_back(idx[k]);
     const std::size_t need = std::max(cx.opt.min_points, std::size_t(std::ceil(cx.opt.sharp_min_fraction * double(idx.size()))));
     if (side[0].size() < need || side[1].size() < need) return false;
+    // Neither side may split again (a corner: three faces in two clusters, one of them two faces
+    // whose quadric draws both planes past their crease, where the clip plane, tilted between the
+    // clusters' means, does not cut them off).
+    for (const std::vector<std::uint32_t>& sd : side) {
+        std::vector<unsigned char> sub_label;
+        Vec3d s0{}, s1{};
+        two_means(N, sd, sub_label, s0, s1);
+        std::size_t n1 = 0;
+        for (const unsigned char l : sub_label) n1 += l;
+        if (dot(s0, s1) < cos_max && std::min(n1, sd.size() - n1) >= need) return false;
+    }
     out.fits += 2;
     const LocalFit f0 = fit_ball(P, N, side[0], c, r, cx.opt.fit), f1 = fit_ball(P, N, side[1], c, r, cx.opt.fit);
     const auto good = [&](const LocalFit& f) { return f.solved && f.oriented && f.max_distance <= cx.threshold; };
@@ -246,12 +344,16 @@ bool attempt_quadrics(const Context& cx, const Vec3d& c, double r, const std::ve
     const double s = best_flip ? -1.0 : 1.0;
     const Vec4d plane0 = vec4(m * s, -s * (dot(m, c) + t));
     const Vec4d plane1 = -plane0;
-    if (cx.opt.support_check &&
-        (!supported(cx, f0.local, c, r, &plane0, idx.size()) || !supported(cx, f1.local, c, r, &plane1, idx.size())))
-        return false;
+    double t0 = 1, t1 = 1;
+    if (cx.opt.support_check) {
+        t0 = support_fraction(cx, f0.local, c, r, &plane0, idx.size(), cx.opt.min_support_fraction);
+        if (t0 < cx.opt.min_support_fraction) return false;
+        t1 = support_fraction(cx, f1.local, c, r, &plane1, idx.size(), cx.opt.min_support_fraction);
+        if (t1 < cx.opt.min_support_fraction) return false;
+    }
     out.records.clear();
-    out.records.push_back(make_record(f0, c, r));
-    out.records.push_back(make_record(f1, c, r));
+    out.records.push_back(make_record(f0, c, r, kept_fraction(t0)));
+    out.records.push_back(make_record(f1, c, r, kept_fraction(t1)));
     out.records[0].ball.has_plane = out.records[1].ball.has_plane = true;
     out.records[0].ball.plane = plane0;
     out.records[1].ball.plane = -plane0;
@@ -271,8 +373,10 @@ bool attempt(const Context& cx, const Vec3d& c, double r, const std::vector<std:
     planar.regularization = planar_regularization;
     ++out.fits;
     const LocalFit plane = fit_ball(cx.pts.positions, cx.pts.normals, idx, c, r, planar);
-    if (!(plane.solved && plane.oriented && plane.max_distance <= cx.threshold && supported(cx, plane.local, c, r, nullptr, idx.size()))) return false;
-    out.records.assign(1, make_record(plane, c, r));
+    if (!(plane.solved && plane.oriented && plane.max_distance <= cx.threshold)) return false;
+    const double t = support_fraction(cx, plane.local, c, r, nullptr, idx.size(), cx.opt.min_support_fraction);
+    if (t < cx.opt.min_support_fraction) return false;
+    out.records.assign(1, make_record(plane, c, r, kept_fraction(t)));
     out.side.assign(idx.size(), 0);
     return true;
 }
@@ -327,21 +431,31 @@ SeedResult grow_ball(const Context& cx, std::uint32_t seed) {
         }
         if (lo == 0) {
             // Even the smallest ball is rejected: keep its single quadric (forced) where the
-            // support check accepts it, else the seed's tangent plane (f = n . u in the ball):
-            // a quadric fitted to the fewest points often has a second sheet or a fold in its
-            // ball, which the renderers draw as a flake.
+            // support check accepts it, else the seed's tangent plane (f = n . u in the ball),
+            // drawn only as far as the check accepts it: a quadric fitted to the fewest points
+            // often has a second sheet or a fold in its ball, and the tangent plane of a seed
+            // near a crease runs past it; the renderers would draw either as a flake.
             best = first;
             if (best.records.size() > 1) best.records.resize(1);
-            if (cx.opt.support_check &&
-                (best.records.empty() || !supported(cx, best.records[0].local, c, best.radius, nullptr, best.points.size()))) {
-                const Vec3d n = cx.pts.normals[seed];
-                Coefficients10<double> k{};
-                k.k100 = n[0];
-                k.k010 = n[1];
-                k.k001 = n[2];
-                LocalFit plane;
-                plane.local = quadric_from_coefficients(k);
-                best.records.assign(1, make_record(plane, c, best.radius));
+            if (cx.opt.support_check) {
+                const std::size_t m = best.points.size();
+                double t = best.records.empty() ? 0.0 : support_fraction(cx, best.records[0].local, c, best.radius, nullptr, m, cx.opt.min_support_fraction);
+                if (t >= cx.opt.min_support_fraction) {
+                    const LocalFit fit{true, best.records[0].local};
+                    best.records.assign(1, make_record(fit, c, best.radius, kept_fraction(t)));
+                } else {
+                    const Vec3d n = cx.pts.normals[seed];
+                    Coefficients10<double> k{};
+                    k.k100 = n[0];
+                    k.k010 = n[1];
+                    k.k001 = n[2];
+                    LocalFit plane;
+                    plane.local = quadric_from_coefficients(k);
+                    // At least a quarter of the ball: the plane passes through the seed, with its
+                    // normal, and a seed on a crease fails the boundary test at the centre.
+                    t = support_fraction(cx, plane.local, c, best.radius, nullptr, m, 0.0);
+                    best.records.assign(1, make_record(plane, c, best.radius, std::max(kept_fraction(t), 0.25)));
+                }
             }
             best.side.assign(best.points.size(), 0);
             best.forced = true;
@@ -382,6 +496,12 @@ BuildResult build(const OrientedPoints& points, const BuildOptions& options) {
     if (!(options.initial_radius > 0) || !(options.max_radius >= options.initial_radius)) bad_option("need 0 < initial_radius <= max_radius");
     if (!(options.support_normal_cos >= -1 && options.support_normal_cos < 1))
         bad_option("support_normal_cos must be in [-1, 1) (got " + num(options.support_normal_cos) + ")");
+    if (!(options.min_support_fraction > 0 && options.min_support_fraction <= 1))
+        bad_option("min_support_fraction must be in (0, 1] (got " + num(options.min_support_fraction) + ")");
+    if (options.support_max_lines < 9 || options.support_max_lines > 201)
+        bad_option("support_max_lines must be in [9, 201] (got " + std::to_string(options.support_max_lines) + ")");
+    if (!(options.support_max_gap_degrees > 0 && options.support_max_gap_degrees <= 360))
+        bad_option("support_max_gap_degrees must be in (0, 360] (got " + num(options.support_max_gap_degrees) + ")");
     if (options.min_points < min_fit_points) bad_option("min_points must be at least " + std::to_string(min_fit_points));
     if (points.size() < options.min_points)
         bad_option(points.file + ": " + std::to_string(points.size()) + " points; a ball needs at least " + std::to_string(options.min_points));
@@ -442,12 +562,15 @@ BuildResult build(const OrientedPoints& points, const BuildOptions& options) {
             if (r.records.size() == 2) ++st.sharp_pairs;
             if (r.forced) ++st.forced;
             const Vec3d c = points.positions[batch[k]];
-            const double rc2 = (options.cover_fraction * r.radius) * (options.cover_fraction * r.radius);
             for (std::size_t j = 0; j < r.points.size(); ++j) {
                 const std::uint32_t i = r.points[j];
+                const std::uint32_t side = r.side[j] < r.records.size() ? r.side[j] : 0;
+                // Within cover_fraction of the record's drawn radius (less than the fitting ball's
+                // where the support check trimmed it).
+                const double rc = options.cover_fraction * r.records[side].ball.radius;
                 const Vec3d d = points.positions[i] - c;
-                if ((dot(d, d) <= rc2 || i == batch[k]) && res.covered_by[i] == none) {
-                    res.covered_by[i] = first + std::uint32_t(r.side[j] < r.records.size() ? r.side[j] : 0);
+                if ((dot(d, d) <= rc * rc || i == batch[k]) && res.covered_by[i] == none) {
+                    res.covered_by[i] = first + side;
                     ++covered;
                 }
             }

@@ -102,7 +102,7 @@ TEST_CASE("the model does not depend on the number of threads") {
     CHECK(one.covered_by == seven.covered_by);
 }
 
-TEST_CASE("a non-positive or non-finite error threshold, or a support normal cosine outside [-1, 1), is rejected") {
+TEST_CASE("a non-positive or non-finite error threshold, or a support option out of its range, is rejected") {
     const OrientedPoints pts = ellipsoid_points(vec3(0.0, 0.0, 0.0), vec3(1.0, 1.0, 1.0), 100, 1);
     for (double e : {0.0, -1e-3, std::nan(""), double(INFINITY)}) {
         BuildOptions o;
@@ -113,6 +113,21 @@ TEST_CASE("a non-positive or non-finite error threshold, or a support normal cos
         BuildOptions o;
         o.support_normal_cos = c;
         CHECK_THROWS_WITH_AS(build(pts, o), doctest::Contains("support_normal_cos must be in [-1, 1)"), std::invalid_argument);
+    }
+    for (double g : {0.0, 361.0, std::nan("")}) {
+        BuildOptions o;
+        o.support_max_gap_degrees = g;
+        CHECK_THROWS_WITH_AS(build(pts, o), doctest::Contains("support_max_gap_degrees must be in (0, 360]"), std::invalid_argument);
+    }
+    for (double f : {0.0, 1.5, std::nan("")}) {
+        BuildOptions o;
+        o.min_support_fraction = f;
+        CHECK_THROWS_WITH_AS(build(pts, o), doctest::Contains("min_support_fraction must be in (0, 1]"), std::invalid_argument);
+    }
+    for (int n : {8, 202}) {
+        BuildOptions o;
+        o.support_max_lines = n;
+        CHECK_THROWS_WITH_AS(build(pts, o), doctest::Contains("support_max_lines must be in [9, 201]"), std::invalid_argument);
     }
 }
 
@@ -217,8 +232,12 @@ TEST_CASE("the support check keeps a flat square's planes from reaching far past
     MESSAGE("square: without the support check " << off.model.balls.size() << " balls, reaching " << overhang(off.model) / h
                                                  << " spacings past the edges; with it " << on.model.balls.size() << " balls, " << overhang(on.model) / h);
     CHECK(overhang(off.model) > 8 * h);
-    // 2 h of support (h = r sqrt(pi / m) counts the ball's m points as a full disc: on half a disc
-    // the spacing is larger), about 3.4 h measured.
-    CHECK(overhang(on.model) < 5 * h);
+    // The boundary test (support_max_gap_degrees, 240) trims a disc where the points within
+    // 3 h' no longer surround its zero set (h' = r sqrt(pi / m), at most sqrt(2) h in a ball on the
+    // edge, which holds half a disc of points): points filling a half-plane up to a distance R
+    // leave a gap wider than 240 degrees beyond R tan 30 degrees past their edge, so a disc ends
+    // within 3 sqrt(2) h tan 30 = 2.45 h of the last row, which lies h / 2 inside the square: 2.95 h
+    // (2.92 h measured; 3.4 h with only the 2 h support distance, before the boundary test).
+    CHECK(overhang(on.model) < 3.0 * h);
     CHECK(on.stats.over_threshold == 0);
 }

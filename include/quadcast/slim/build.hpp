@@ -12,17 +12,22 @@
 //     then two bisection steps (geometric mean) between the largest accepted and the smallest
 //     rejected radius. Accepted: the fit (quadcast/slim/fit.hpp) solved, oriented along every
 //     normal, every point of the ball within E (gradient-line distance), and (support_check) its
-//     zero set in the ball near the points: sampled on 147 lines, every sample within 2 point
-//     spacings of an input point whose normal is less than 120 degrees from the quadric's
-//     gradient there (no plane continued past an edge, no second sheet in the ball, no sheet
-//     folded back through the points). With the support check, a ball whose quadric and sharp
-//     pair are rejected is tried once more with a plane (the fit with its quadratic coefficients
-//     held at ~0): in balls of few points the quadratic terms are barely determined and often
-//     turn a sheet back into the ball.
+//     zero set near the points out to at least min_support_fraction of the radius: sampled on
+//     lines parallel to the axes (9 to 51 per side, about 2 point spacings apart), every sample
+//     within 2 point spacings of an input point whose normal is less than 120 degrees from the
+//     quadric's gradient there (no second sheet in the ball, no sheet folded back through the
+//     points), and surrounded by the points of its own sheet (no angular gap over
+//     support_max_gap_degrees: no plane continued past a crease or a border, a fin). Where a
+//     sample fails, the record is drawn only in the ball of 0.9 times that sample's distance (its
+//     points are covered only within that ball). With the support check, a ball whose quadric
+//     and sharp pair are rejected is tried once more with a plane (the fit with its quadratic
+//     coefficients held at ~0): in balls of few points the quadratic terms are barely determined
+//     and often turn a sheet back into the ball.
 //  4. Sharp features: when the single quadric is rejected, the normals are split by 2-means
 //     (seeded by the normal farthest from the mean and the one farthest from that, 10 rounds).
-//     If the cluster means are more than sharp_angle apart and each cluster holds at least
-//     max(min_points, sharp_min_fraction * n) points, each cluster gets its own quadric, and
+//     If the cluster means are more than sharp_angle apart, each cluster holds at least
+//     max(min_points, sharp_min_fraction * n) points and neither splits again so (a corner's
+//     three faces in two clusters), each cluster gets its own quadric, and
 //     the ball becomes TWO records with the same centre and radius, each with a clip plane
 //     (Stoll et al. 2006, fig. 8: the surface is the quadric's part on the plane's positive
 //     side). The planes are one plane with opposite signs: normal m = (n1 - n2) / |n1 - n2|
@@ -32,8 +37,9 @@
 //     corner's three faces split into two clusters are not separable by one plane). Note that an
 //     edge of two planar faces is often ONE quadric already: the plane pair x y = 0.
 //  5. When even the min_points ball is rejected it is kept anyway ("forced"; counted): its
-//     quadric where the support check accepts it, else the seed's tangent plane.
-//  6. The points within cover_fraction * r of the centre are marked covered by that record
+//     quadric where the support check accepts it, else the seed's tangent plane, drawn as far as
+//     the support check accepts it (at least a quarter of the ball).
+//  6. The points within cover_fraction * (drawn radius) of the centre are marked covered by that record
 //     (by their cluster's record in a sharp pair); repeat until every point is covered.
 // Threads (TBB): batches of the next uncovered seeds are fitted in parallel and committed in
 // seed order; a seed covered by an earlier ball of its batch is dropped. A seed's ball depends
@@ -63,12 +69,25 @@ struct BuildOptions {
     std::size_t min_points = 12;       ///< fewest points in a ball (>= 10)
     bool sharp_features = true;
     /// Accept a fit only where its zero set in the ball (on its plane's side) stays within 2 point
-    /// spacings of the input points (sampled on 147 lines; src/slim/build.cpp `supported`): a
-    /// quadric continued past an edge or a second sheet would be drawn by the renderers.
+    /// spacings of the input points and inside their edges (src/slim/build.cpp `support_fraction`;
+    /// step 3 above): a quadric continued past an edge or a second sheet would be drawn by the
+    /// renderers.
     bool support_check = true;
     /// The support check's normal test: a zero-set sample needs an input point within the support
     /// distance whose normal n has n . g > support_normal_cos |g| (g the quadric's gradient there).
     double support_normal_cos = -0.5;
+    /// The support check's boundary test: seen from a zero-set sample, the input points within 3
+    /// point spacings whose normals are within 60 degrees of the quadric's gradient (projected on
+    /// the tangent plane) leave no angular gap wider than this. A sheet's edge leaves 180 degrees;
+    /// a quadric continued past a crease or a point cloud's border (a fin) more. 360: off.
+    double support_max_gap_degrees = 240;
+    /// A fit whose support check fails at a sample is still accepted when every sample nearer to
+    /// the centre than this fraction of the radius passes; its record is then drawn in the ball
+    /// of 0.9 times the distance to that sample (the rest of the fitting ball is cut off).
+    double min_support_fraction = 0.5;
+    /// The support check samples the zero set on lines about 2 point spacings apart, at least 9 and
+    /// at most this many per side of the ball's square ([9, 201]).
+    int support_max_lines = 51;
     double sharp_angle_degrees = 60;
     double sharp_min_fraction = 0.1;
     double sharp_max_misclassified = 0.02;  ///< fraction of the ball's points the plane may put on the wrong side
