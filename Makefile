@@ -48,7 +48,10 @@ configure: deps
 build: configure
 	cmake --build $(BUILD) -j $(JOBS)
 
+# CGAL's sample data first (`data`): the tests on it (tests/slim: the kitten, bunny, fandisk and
+# dragon; tests/gl: the GL SLIM bunny) skip themselves, saying so, where it could not be fetched.
 test: build fuzz-build
+	@tools/fetch_cgal_data.sh $(DATA_DIR) || echo "make test: CGAL's sample data could not be fetched; the tests on it will be skipped"
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
 
 # libFuzzer harnesses of every reader (tests/fuzz), built with Clang, ASan and UBSan in their own

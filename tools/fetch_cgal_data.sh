@@ -22,10 +22,17 @@ dir=$(cd "$dir" && pwd)
 tmp=$(mktemp -d "$dir/.fetch.XXXXXX")
 trap 'rm -rf "$tmp"' EXIT INT TERM
 echo "fetching libcgal-demo (CGAL sample data, about 25 MB) for:$missing"
-(cd "$tmp" && apt-get download libcgal-demo >/dev/null 2>"$tmp/apt.log") || {
-  cat "$tmp/apt.log" >&2
-  echo "fetch_cgal_data.sh: 'apt-get download libcgal-demo' failed (run 'apt-get update' first?)" >&2
-  exit 1
+# Without package lists (a machine where every other package was already installed and `apt-get
+# update` never ran) the download fails: update them once (as root, or through sudo) and retry.
+download() { (cd "$tmp" && apt-get download libcgal-demo >/dev/null 2>"$tmp/apt.log"); }
+download || {
+  sudo=""; [ "$(id -u)" = 0 ] || sudo=sudo
+  echo "fetch_cgal_data.sh: 'apt-get download libcgal-demo' failed; running 'apt-get update' and retrying" >&2
+  { $sudo apt-get update -qq >/dev/null 2>&1 && download; } || {
+    cat "$tmp/apt.log" >&2
+    echo "fetch_cgal_data.sh: 'apt-get download libcgal-demo' failed" >&2
+    exit 1
+  }
 }
 dpkg -x "$tmp"/libcgal-demo_*.deb "$tmp/pkg"
 tarball=$(find "$tmp/pkg" -name data.tar.gz | head -n 1)

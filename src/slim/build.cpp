@@ -170,8 +170,8 @@ bool surrounded(const Context& cx, const Vec3d& x, const Vec3d& g, const std::ve
 
 /// The support check (BuildOptions::support_check): how far from the centre the zero set of the
 /// local quadric inside the ball (and on the kept side of `plane` when given, world coordinates)
-/// lies near the input points. Sampled where the lines parallel to the three axes through a 9 x 9
-/// grid of [-1, 1]^2 (local coordinates) cross it. A sample x passes when
+/// lies near the input points. Sampled where the lines parallel to the three axes through an n x n
+/// grid of [-1, 1]^2 (local coordinates; n from 13 to support_max_lines) cross it. A sample x passes when
 ///  - an input point within 2 h of it (h = r sqrt(pi / m), the spacing of m points on a disc of
 ///    radius r; at least 2 E) has a normal n with n . g > support_normal_cos |g| (g the gradient
 ///    at x): a second sheet, or a sheet folded back through the points, fails;
@@ -190,9 +190,9 @@ double support_fraction(const Context& cx, const Quadric<double>& local, const V
     std::vector<std::uint32_t> near, agreeing_range;
     std::vector<double> angles;
     double t = 1;
-    // Lines about a support distance apart (9 to 25 per side): a fin narrower than the lines'
-    // spacing can lie between them.
-    const int lines = std::clamp(int(std::ceil(2 * r / support)) + 1, 9, cx.opt.support_max_lines);
+    // Lines two thirds of the support distance apart (13 to support_max_lines per side): a fin
+    // narrower than their spacing can lie between them.
+    const int lines = std::clamp(int(std::ceil(3 * r / support)) + 1, 13, cx.opt.support_max_lines);
     const double half = 0.5 * (lines - 1), spacing = 1.0 / (0.5 * lines);
     for (int a = 0; a < 3; ++a)
         for (int i = 0; i < lines; ++i)
@@ -258,7 +258,7 @@ double support_fraction(const Context& cx, const Quadric<double>& local, const V
 
 /// The radius fraction a record keeps of its fitting ball, from its support fraction: all of it
 /// when every sample passed, else 0.9 of the distance to the nearest failing one (the sampled
-/// lines are 0.22 r apart: a fin starts a little nearer than where a line finds it).
+/// lines are up to 0.15 r apart: a fin starts a little nearer than where a line finds it).
 double kept_fraction(double support) { return support >= 1 ? 1.0 : 0.9 * support; }
 
 bool attempt_pair(const Context& cx, const Vec3d& c, double r, const std::vector<std::uint32_t>& idx, SeedResult& out);
@@ -498,8 +498,8 @@ BuildResult build(const OrientedPoints& points, const BuildOptions& options) {
         bad_option("support_normal_cos must be in [-1, 1) (got " + num(options.support_normal_cos) + ")");
     if (!(options.min_support_fraction > 0 && options.min_support_fraction <= 1))
         bad_option("min_support_fraction must be in (0, 1] (got " + num(options.min_support_fraction) + ")");
-    if (options.support_max_lines < 9 || options.support_max_lines > 201)
-        bad_option("support_max_lines must be in [9, 201] (got " + std::to_string(options.support_max_lines) + ")");
+    if (options.support_max_lines < 13 || options.support_max_lines > 201)
+        bad_option("support_max_lines must be in [13, 201] (got " + std::to_string(options.support_max_lines) + ")");
     if (!(options.support_max_gap_degrees > 0 && options.support_max_gap_degrees <= 360))
         bad_option("support_max_gap_degrees must be in (0, 360] (got " + num(options.support_max_gap_degrees) + ")");
     if (options.min_points < min_fit_points) bad_option("min_points must be at least " + std::to_string(min_fit_points));

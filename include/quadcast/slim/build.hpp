@@ -13,7 +13,7 @@
 //     rejected radius. Accepted: the fit (quadcast/slim/fit.hpp) solved, oriented along every
 //     normal, every point of the ball within E (gradient-line distance), and (support_check) its
 //     zero set near the points out to at least min_support_fraction of the radius: sampled on
-//     lines parallel to the axes (9 to 51 per side, about 2 point spacings apart), every sample
+//     lines parallel to the axes (13 to 51 per side, about 4/3 point spacings apart), every sample
 //     within 2 point spacings of an input point whose normal is less than 120 degrees from the
 //     quadric's gradient there (no second sheet in the ball, no sheet folded back through the
 //     points), and surrounded by the points of its own sheet (no angular gap over
@@ -85,8 +85,8 @@ struct BuildOptions {
     /// the centre than this fraction of the radius passes; its record is then drawn in the ball
     /// of 0.9 times the distance to that sample (the rest of the fitting ball is cut off).
     double min_support_fraction = 0.5;
-    /// The support check samples the zero set on lines about 2 point spacings apart, at least 9 and
-    /// at most this many per side of the ball's square ([9, 201]).
+    /// The support check samples the zero set on lines about 4/3 point spacings apart, at least 13
+    /// and at most this many per side of the ball's square ([13, 201]).
     int support_max_lines = 51;
     double sharp_angle_degrees = 60;
     double sharp_min_fraction = 0.1;
