@@ -26,11 +26,11 @@ echo "fetching libcgal-demo (CGAL sample data, about 25 MB) for:$missing"
 # update` never ran) the download fails: update them once (as root, or through sudo) and retry.
 download() { (cd "$tmp" && apt-get download libcgal-demo >/dev/null 2>"$tmp/apt.log"); }
 download || {
-  sudo=""; [ "$(id -u)" = 0 ] || sudo=sudo
+  sudo=""; [ "$(id -u)" = 0 ] || sudo="sudo -n"  # -n: never wait for a password
   echo "fetch_cgal_data.sh: 'apt-get download libcgal-demo' failed; running 'apt-get update' and retrying" >&2
-  { $sudo apt-get update -qq >/dev/null 2>&1 && download; } || {
-    cat "$tmp/apt.log" >&2
-    echo "fetch_cgal_data.sh: 'apt-get download libcgal-demo' failed" >&2
+  { $sudo apt-get update -qq >"$tmp/update.log" 2>&1 && download; } || {
+    echo "fetch_cgal_data.sh: 'apt-get download libcgal-demo' failed:" >&2
+    cat "$tmp/update.log" "$tmp/apt.log" >&2 2>/dev/null || true
     exit 1
   }
 }

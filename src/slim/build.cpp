@@ -141,7 +141,7 @@ void two_means(const std::vector<Vec3d>& n, const std::vector<std::uint32_t>& id
 }
 
 /// The boundary part of the support check (BuildOptions::support_max_gap_degrees): the input
-/// points of `near` whose normals lie within 60 degrees of the gradient g at the zero-set sample
+/// points of `near` whose normals lie within 60 degrees (or the sharp angle, if smaller) of the gradient g at the zero-set sample
 /// x (the sheet's own points), projected onto the tangent plane at x, surround x: seen from x,
 /// no angle between consecutive ones exceeds the maximum gap. Inside a sheet they surround it; on
 /// the sheet's edge (a face's crease, a point cloud's border) they fill half the circle; past it
@@ -153,9 +153,12 @@ bool surrounded(const Context& cx, const Vec3d& x, const Vec3d& g, const std::ve
     // A tangent basis (t1, t2) of the plane normal to n.
     const Vec3d a = std::fabs(n[0]) < 0.6 ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 1.0, 0.0);
     const Vec3d t1 = normalize(cross(n, a)), t2 = cross(n, t1);
+    // A sheet's own points: normals within 60 degrees of g, or within the sharp angle where that
+    // is smaller (else the other face of a sharper crease would count as the same sheet).
+    const double own_sheet_cos = std::max(0.5, std::cos(cx.opt.sharp_angle_degrees * std::numbers::pi / 180));
     angles.clear();
     for (const std::uint32_t i : near) {
-        if (!(dot(cx.pts.normals[i], n) > 0.5)) continue;
+        if (!(dot(cx.pts.normals[i], n) > own_sheet_cos)) continue;
         const Vec3d d = cx.pts.positions[i] - x;
         const double p = dot(d, t1), q = dot(d, t2);
         if (p == 0 && q == 0) continue;  // on the normal line: no direction
@@ -187,7 +190,7 @@ double support_fraction(const Context& cx, const Quadric<double>& local, const V
     const double support = std::max(2.0 * r * std::sqrt(std::numbers::pi / double(std::max<std::size_t>(m, 1))), 2.0 * cx.threshold);
     const double gap_radius = 1.5 * support;
     const bool gap_test = cx.opt.support_max_gap_degrees < 360;
-    std::vector<std::uint32_t> near, agreeing_range;
+    std::vector<std::uint32_t> near;
     std::vector<double> angles;
     double t = 1;
     // Lines two thirds of the support distance apart (13 to support_max_lines per side): a fin
@@ -396,7 +399,8 @@ SeedResult grow_ball(const Context& cx, std::uint32_t seed) {
     std::vector<double> d2(idx.size());
     for (std::size_t k = 0; k < idx.size(); ++k) d2[k] = dot(cx.pts.positions[idx[k]] - c, cx.pts.positions[idx[k]] - c);
     std::nth_element(d2.begin(), d2.begin() + long(cx.opt.min_points - 1), d2.end());
-    const double r_min = std::sqrt(d2[cx.opt.min_points - 1]) * (1 + 1e-12);
+    // (At least 1e-9 diagonals: min_points copies of the seed would make it 0.)
+    const double r_min = std::max(std::sqrt(d2[cx.opt.min_points - 1]) * (1 + 1e-12), 1e-9 * cx.diagonal);
     const double r_max = std::max(r_min, cx.opt.max_radius * cx.diagonal);
     // Start at most 8 times the min_points radius: a far outlier makes the diagonal (and so the
     // initial radius) huge, and shrinking from there would take hundreds of fits per seed.
@@ -411,6 +415,9 @@ SeedResult grow_ball(const Context& cx, std::uint32_t seed) {
         cur.fits = 0;
         return ok;
     };
+    // (The largest accepted fitting ball wins, even where the support check trims it to draw less
+    // than a smaller one would: choosing by the drawn radius measured worse, with pinholes at
+    // fandisk's corners and wider seams on the bunny, tests/slim/against_mesh.cpp.)
     double lo = 0, hi = 0;  // largest accepted, smallest rejected radius
     if (run(r)) {
         best = cur;

@@ -332,8 +332,10 @@ TEST_CASE("no fins at creases and corners: every record's zero set in its ball l
     // standing off the edge (fandisk showed them). The reference is the prism's own 20 triangles:
     // the distance of every sampled zero-set point (long double roots, 31 x 31 x 3 lines per ball)
     // to the nearest triangle, by Voronoi regions in long double, not SLIM code. The support check
-    // lets a zero set stray up to its support distance (2 E here: 100000 samples) from the input
-    // points, and the boundary test keeps it from running past the points' edge.
+    // keeps every zero-set point it samples within its support distance (2 E here: 100000
+    // samples) of an input point, so of the faces, and the boundary test keeps it from running
+    // past the points' edge; its lines lie two thirds of the support distance apart, so an unsampled
+    // zero-set point is within 2/3 E of a sampled one: 2.67 E in all, below the 3 E checked.
     const std::string file = data("l_prism.off");
     struct Variant {
         const char* name;
@@ -370,6 +372,6 @@ TEST_CASE("no fins at creases and corners: every record's zero set in its ball l
         // Measured: 26 samples beyond 2 E, the farthest 2.67 E; without the boundary test 1292 and
         // 3.1 E; without the support check 92454 and 81 E.
         if (v.support && v.max_gap < 360) CHECK(beyond_3e == 0);
-        else CHECK(beyond_2e > 1000);
+        else CHECK(beyond_2e > 500);  // the measure sees the fins the boundary test removes
     }
 }

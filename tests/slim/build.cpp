@@ -233,11 +233,13 @@ TEST_CASE("the support check keeps a flat square's planes from reaching far past
                                                  << " spacings past the edges; with it " << on.model.balls.size() << " balls, " << overhang(on.model) / h);
     CHECK(overhang(off.model) > 8 * h);
     // The boundary test (support_max_gap_degrees, 240) trims a disc where the points within
-    // 3 h' no longer surround its zero set (h' = r sqrt(pi / m), at most sqrt(2) h in a ball on the
-    // edge, which holds half a disc of points): points filling a half-plane up to a distance R
-    // leave a gap wider than 240 degrees beyond R tan 30 degrees past their edge, so a disc ends
-    // within 3 sqrt(2) h tan 30 = 2.45 h of the last row, which lies h / 2 inside the square: 2.95 h
-    // (2.10 h measured; 3.4 h with only the 2 h support distance, before the boundary test).
+    // R = 3 h' no longer surround its zero set (h' = r sqrt(pi / m), about sqrt(2) h in a ball on
+    // the edge, which holds half a disc of points): seen from d past the edge of a half-plane of
+    // points, those within R span 2 acos(d / R), so the gap exceeds 240 degrees beyond d = R / 2.
+    // A disc thus ends within 3 sqrt(2) h / 2 = 2.12 h of the last row, which lies h / 2 inside the
+    // square: 2.62 h. (2.10 h measured; 3.4 h with only the 2 h support distance, before the
+    // boundary test. A ball centred near a corner holds a quarter disc, h' about 2 h, but its
+    // disc is trimmed at the corner's two edges.)
     CHECK(overhang(on.model) < 3.0 * h);
     CHECK(on.stats.over_threshold == 0);
 }

@@ -18,8 +18,8 @@
 //     quadric's gradient there (no second sheet in the ball, no sheet folded back through the
 //     points), and surrounded by the points of its own sheet (no angular gap over
 //     support_max_gap_degrees: no plane continued past a crease or a border, a fin). Where a
-//     sample fails, the record is drawn only in the ball of 0.9 times that sample's distance (its
-//     points are covered only within that ball). With the support check, a ball whose quadric
+//     sample fails, the record is drawn only in the ball of 0.9 times that sample's distance (and
+//     step 6 covers points within cover_fraction of that radius). With the support check, a ball whose quadric
 //     and sharp pair are rejected is tried once more with a plane (the fit with its quadratic
 //     coefficients held at ~0): in balls of few points the quadratic terms are barely determined
 //     and often turn a sheet back into the ball.
@@ -63,7 +63,7 @@ struct BuildProgress {
 
 struct BuildOptions {
     double error = 1e-3;               ///< E relative to the bounding-box diagonal; > 0
-    double cover_fraction = 0.5;       ///< points within this fraction of r are covered
+    double cover_fraction = 0.5;       ///< points within this fraction of a record's drawn radius are covered
     double initial_radius = 0.02;      ///< relative to the diagonal
     double max_radius = 0.25;          ///< relative to the diagonal
     std::size_t min_points = 12;       ///< fewest points in a ball (>= 10)
@@ -76,9 +76,10 @@ struct BuildOptions {
     /// The support check's normal test: a zero-set sample needs an input point within the support
     /// distance whose normal n has n . g > support_normal_cos |g| (g the quadric's gradient there).
     double support_normal_cos = -0.5;
-    /// The support check's boundary test: seen from a zero-set sample, the input points within 3
-    /// point spacings whose normals are within 60 degrees of the quadric's gradient (projected on
-    /// the tangent plane) leave no angular gap wider than this. A sheet's edge leaves 180 degrees;
+    /// The support check's boundary test: seen from a zero-set sample, the input points within 1.5
+    /// support distances (3 point spacings, at least 3 E) whose normals are within 60 degrees (or
+    /// sharp_angle_degrees, if smaller) of the quadric's gradient (projected on the tangent plane)
+    /// leave no angular gap wider than this. A sheet's edge leaves 180 degrees;
     /// a quadric continued past a crease or a point cloud's border (a fin) more. 360: off.
     double support_max_gap_degrees = 240;
     /// A fit whose support check fails at a sample is still accepted when every sample nearer to
