@@ -369,9 +369,9 @@ TEST_CASE("no fins at creases and corners: every record's zero set in its ball l
                 << b.slim.stats.forced << " forced); " << samples << " zero-set samples, " << beyond_2e << " farther than 2 E from the faces, "
                 << beyond_3e << " farther than 3 E, the farthest " << double(worst / E) << " E");
         CHECK(samples > 100 * long(b.slim.stats.balls));
-        // Measured: 26 samples beyond 2 E, the farthest 2.67 E; without the boundary test 1292 and
+        // Measured: 20 samples beyond 2 E, the farthest 2.67 E; without the boundary test 639 and
         // 3.1 E; without the support check 92454 and 81 E.
         if (v.support && v.max_gap < 360) CHECK(beyond_3e == 0);
-        else CHECK(beyond_2e > 500);  // the measure sees the fins the boundary test removes
+        else CHECK(beyond_2e > 300);  // the measure sees the fins the boundary test removes
     }
 }

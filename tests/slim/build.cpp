@@ -237,9 +237,9 @@ TEST_CASE("the support check keeps a flat square's planes from reaching far past
     // the edge, which holds half a disc of points): seen from d past the edge of a half-plane of
     // points, those within R span 2 acos(d / R), so the gap exceeds 240 degrees beyond d = R / 2.
     // A disc thus ends within 3 sqrt(2) h / 2 = 2.12 h of the last row, which lies h / 2 inside the
-    // square: 2.62 h. (2.10 h measured; 3.4 h with only the 2 h support distance, before the
-    // boundary test. A ball centred near a corner holds a quarter disc, h' about 2 h, but its
-    // disc is trimmed at the corner's two edges.)
+    // square: 2.62 h. (0.90 h measured, 2.10 h before the final check on denser lines; 3.4 h
+    // with only the 2 h support distance, before the boundary test. A ball centred near a corner
+    // holds a quarter disc, h' about 2 h, but its disc is trimmed at the corner's two edges.)
     CHECK(overhang(on.model) < 3.0 * h);
     CHECK(on.stats.over_threshold == 0);
 }

@@ -41,6 +41,10 @@
 //     the support check accepts it (at least a quarter of the ball).
 //  6. The points within cover_fraction * (drawn radius) of the centre are marked covered by that record
 //     (by their cluster's record in a sharp pair); repeat until every point is covered.
+//  7. (After the cover.) Every record's zero set is checked once more on lines twice as dense (at
+//     least 31 per side) and its drawn radius cut the same way where a sample fails, but never
+//     below half: a sliver narrower than the fits' lines (a piece of a second sheet at a ball's
+//     rim) would be drawn as a speck off the surface.
 // Threads (TBB): batches of the next uncovered seeds are fitted in parallel and committed in
 // seed order; a seed covered by an earlier ball of its batch is dropped. A seed's ball depends
 // only on the seed and the points, so the result is the sequential algorithm's, bit for bit,
