@@ -231,10 +231,11 @@ double support_fraction(const Context& cx, const Quadric<double>& local, const V
                     // ... and one of them with a normal on the sample's side: a sheet folded back
                     // or a second sheet near other points has the opposite orientation.
                     const Vec3d g = gradient(local, u);
+                    const double gl = length(g);
                     bool agrees = false;
                     for (const std::uint32_t i : near) {
                         const Vec3d d = cx.pts.positions[i] - x;
-                        if (dot(d, d) <= support * support && dot(cx.pts.normals[i], g) > cx.opt.support_normal_cos * length(g)) {
+                        if (dot(d, d) <= support * support && dot(cx.pts.normals[i], g) > cx.opt.support_normal_cos * gl) {
                             agrees = true;
                             break;
                         }
@@ -245,7 +246,6 @@ double support_fraction(const Context& cx, const Quadric<double>& local, const V
                     // a thin shell's pair, never comes near the crossing.)
                     bool at_plane = false;
                     if (plane) {
-                        const double gl = length(g);
                         const double cos_gm = gl > 0 ? dot(g, xyz(*plane)) / gl : 1.0;
                         const double sin2 = std::max(0.0, 1 - cos_gm * cos_gm);
                         at_plane = side * side < support * support * sin2;

@@ -28,16 +28,6 @@ TriangleMesh read_off_mesh(const std::string& path, std::vector<std::string>* wa
 
 namespace {
 
-double dot3(const Vec3d& a, const Vec3d& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-
-double segment_distance2(const Vec3d& p, const Vec3d& a, const Vec3d& b) {
-    const Vec3d ab = b - a;
-    const double l2 = dot3(ab, ab);
-    const double t = l2 > 0.0 ? std::clamp(dot3(p - a, ab) / l2, 0.0, 1.0) : 0.0;
-    const Vec3d d = p - (a + ab * t);
-    return dot3(d, d);
-}
-
 struct Box {
     Vec3d lo{{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()}};
     Vec3d hi{{-std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()}};
@@ -232,43 +222,6 @@ void parity_votes(const TriangleMesh& m, int a, const int n[3], const Vec3d& ori
 }
 
 }  // namespace
-
-double point_triangle_distance2(const Vec3d& p, const Vec3d& a, const Vec3d& b, const Vec3d& c) {
-    const Vec3d ab = b - a, ac = c - a, ap = p - a;
-    // Degenerate or needle-like triangles (sin of the angle at a below 1e-6; |ab x ac|^2 by
-    // Lagrange's identity): the nearest of the edges, which lie within 1e-6 of the size of the
-    // triangle from every point of it. Ericson's region tests are unreliable there.
-    const double ab2 = dot3(ab, ab), ac2 = dot3(ac, ac), abac = dot3(ab, ac);
-    if (!(ab2 * ac2 - abac * abac > 1e-12 * (ab2 * ac2)))
-        return std::min({segment_distance2(p, a, b), segment_distance2(p, b, c), segment_distance2(p, c, a)});
-    auto d2 = [&](const Vec3d& q) { const Vec3d d = p - q; return dot3(d, d); };
-    const double d1 = dot3(ab, ap), d2v = dot3(ac, ap);
-    if (d1 <= 0.0 && d2v <= 0.0) return d2(a);
-    const Vec3d bp = p - b;
-    const double d3 = dot3(ab, bp), d4 = dot3(ac, bp);
-    if (d3 >= 0.0 && d4 <= d3) return d2(b);
-    const double vc = d1 * d4 - d3 * d2v;
-    if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) {
-        const double v = d1 / (d1 - d3);
-        return d2(a + ab * v);
-    }
-    const Vec3d cp = p - c;
-    const double d5 = dot3(ab, cp), d6 = dot3(ac, cp);
-    if (d6 >= 0.0 && d5 <= d6) return d2(c);
-    const double vb = d5 * d2v - d1 * d6;
-    if (vb <= 0.0 && d2v >= 0.0 && d6 <= 0.0) {
-        const double w = d2v / (d2v - d6);
-        return d2(a + ac * w);
-    }
-    const double va = d3 * d6 - d5 * d4;
-    if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0) {
-        const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-        return d2(b + (c - b) * w);
-    }
-    const double den = va + vb + vc;
-    const double v = vb / den, w = vc / den;
-    return d2(a + ab * v + ac * w);
-}
 
 VolumeData signed_distance_volume(const TriangleMesh& mesh, const SdfOptions& options, const Progress& progress) {
     const std::string name = mesh.source.empty() ? std::string("mesh") : mesh.source;

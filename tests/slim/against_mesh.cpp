@@ -11,6 +11,7 @@
 
 #include "quadcast/image/image_io.hpp"
 #include "quadcast/render/slim_cpu_renderer.hpp"
+#include "quadcast/volume/sdf.hpp"
 #include "slim/against_mesh.hpp"
 #include "slim/slim_testing.hpp"
 
@@ -73,10 +74,9 @@ TEST_CASE("CGAL's bunny, fandisk and Chinese dragon (when build/data has them): 
     // As the test above, on the meshes the demo draws (make data fetches them; `make test` does):
     // fandisk's creases and corners and the dragon's thin mane and claws, where fins and blobs
     // stood off the edges by up to 48 rings (fandisk, before the support check's boundary test).
-    const std::filesystem::path dir = std::filesystem::path(__FILE__).parent_path().parent_path().parent_path() / "build" / "data";
     for (const char* name : {"bunny00.off", "fandisk.off", "ChineseDragon-10kv.off"}) {
         CAPTURE(name);
-        const std::filesystem::path f = dir / name;
+        const std::filesystem::path f = cgal_data(name);
         if (!std::filesystem::exists(f)) {
             MESSAGE("skipped: " << f.string() << " is absent (make data, or tools/fetch_cgal_data.sh build/data)");
             continue;
@@ -259,33 +259,6 @@ TEST_CASE("no seams on the bunny: neighbouring pixels of one sheet differ in ble
 
 namespace {
 
-using V3L = Vec<long double, 3>;
-
-V3L to_ld(const V3& v) { return vec3((long double)v[0], (long double)v[1], (long double)v[2]); }
-
-/// Distance from p to the triangle (a, b, c), long double: the closest point by its Voronoi region
-/// (Ericson, Real-Time Collision Detection, sec. 5.1.5).
-long double triangle_distance(const V3L& p, const V3L& a, const V3L& b, const V3L& c) {
-    const V3L ab = b - a, ac = c - a, ap = p - a;
-    const long double d1 = dot(ab, ap), d2 = dot(ac, ap);
-    auto dist = [&](const V3L& q) { return std::sqrt(dot(p - q, p - q)); };
-    if (d1 <= 0 && d2 <= 0) return dist(a);
-    const V3L bp = p - b;
-    const long double d3 = dot(ab, bp), d4 = dot(ac, bp);
-    if (d3 >= 0 && d4 <= d3) return dist(b);
-    const long double vc = d1 * d4 - d3 * d2;
-    if (vc <= 0 && d1 >= 0 && d3 <= 0) return dist(a + ab * (d1 / (d1 - d3)));
-    const V3L cp = p - c;
-    const long double d5 = dot(ab, cp), d6 = dot(ac, cp);
-    if (d6 >= 0 && d5 <= d6) return dist(c);
-    const long double vb = d5 * d2 - d1 * d6;
-    if (vb <= 0 && d2 >= 0 && d6 <= 0) return dist(a + ac * (d2 / (d2 - d6)));
-    const long double va = d3 * d6 - d5 * d4;
-    if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) return dist(b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6))));
-    const long double den = 1 / (va + vb + vc);
-    return dist(a + ab * (vb * den) + ac * (vc * den));
-}
-
 /// Calls f(x) for points of a record's zero set (long double): where the lines parallel to the three
 /// axes through an n x n grid over the ball's bounding square cross its quadric, inside the ball
 /// and on the kept side of its clip plane.
@@ -294,7 +267,7 @@ void zero_set_samples(const Ball& b, int n, F&& f) {
     Quadric<long double> q;
     for (int j = 0; j < 4; ++j)
         for (int i = 0; i < 4; ++i) q.q[j][i] = b.q.q[j][i];
-    const V3L c = to_ld(b.center);
+    const V3L c = to_long(b.center);
     const long double r = b.radius;
     for (int a = 0; a < 3; ++a)
         for (int i = 0; i < n; ++i)
@@ -331,7 +304,7 @@ TEST_CASE("no fins at creases and corners: every record's zero set in its ball l
     // of a ball across the crease) or past a corner is drawn by the renderers as a fin or a blob
     // standing off the edge (fandisk showed them). The reference is the prism's own 20 triangles:
     // the distance of every sampled zero-set point (long double roots, 31 x 31 x 3 lines per ball)
-    // to the nearest triangle, by Voronoi regions in long double, not SLIM code. The support check
+    // to the nearest triangle (volume::point_triangle_distance2 in long double), not SLIM code. The support check
     // keeps every zero-set point it samples within its support distance (2 E here: 100000
     // samples) of an input point, so of the faces, and the boundary test keeps it from running
     // past the points' edge; its lines lie two thirds of the support distance apart, so an unsampled
@@ -353,13 +326,13 @@ TEST_CASE("no fins at creases and corners: every record's zero set in its ball l
         std::vector<std::array<V3L, 3>> tri;
         for (const auto& f : b.mesh.faces)
             for (std::size_t k = 1; k + 1 < f.size(); ++k)
-                tri.push_back({to_ld(b.mesh.vertices[f[0]]), to_ld(b.mesh.vertices[f[k]]), to_ld(b.mesh.vertices[f[k + 1]])});
+                tri.push_back({to_long(b.mesh.vertices[f[0]]), to_long(b.mesh.vertices[f[k]]), to_long(b.mesh.vertices[f[k + 1]])});
         long double worst = 0;
         long samples = 0, beyond_2e = 0, beyond_3e = 0;
         for (const Ball& ball : b.slim.model.balls)
             zero_set_samples(ball, 31, [&](const V3L& x) {
                 long double d = std::numeric_limits<long double>::infinity();
-                for (const auto& t : tri) d = std::min(d, triangle_distance(x, t[0], t[1], t[2]));
+                for (const auto& t : tri) d = std::min(d, std::sqrt(volume::point_triangle_distance2(x, t[0], t[1], t[2])));
                 worst = std::max(worst, d);
                 ++samples;
                 beyond_2e += d > 2 * E;

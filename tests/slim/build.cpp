@@ -167,7 +167,7 @@ TEST_CASE("on a cube the sharp pairs' planes keep their own side's points") {
 }
 
 TEST_CASE("CGAL's kitten point set is covered within the threshold (when build/data has it)") {
-    const std::filesystem::path f = std::filesystem::path(__FILE__).parent_path().parent_path().parent_path() / "build" / "data" / "kitten.xyz";
+    const std::filesystem::path f = cgal_data("kitten.xyz");
     if (!std::filesystem::exists(f)) {
         MESSAGE("skipped: " << f.string() << " is absent (make data, or tools/fetch_cgal_data.sh build/data)");
         return;

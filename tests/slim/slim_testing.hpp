@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cmath>
+#include <filesystem>
 #include <random>
 
 #include "quadcast/slim/points.hpp"
@@ -9,6 +10,11 @@
 namespace quadcast::slim::testing {
 
 using V3L = Vec<long double, 3>;
+
+/// CGAL's sample data where `make data` (and `make test`) put it: build/data in the source tree.
+inline std::filesystem::path cgal_data(const char* name) {
+    return std::filesystem::path(__FILE__).parent_path().parent_path().parent_path() / "build" / "data" / name;
+}
 
 inline V3L to_long(const Vec3d& v) { return vec3((long double)v[0], (long double)v[1], (long double)v[2]); }
 
