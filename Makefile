@@ -2,10 +2,15 @@
 # Debian 12 machine: installs the missing Debian packages, configures, builds, runs.
 BUILD ?= build
 JOBS ?= $(shell nproc)
+# The ParaView plugin (paraview/) and its pvbatch tests on 1 and 2 MPI ranks under Xvfb: ParaView
+# 5.11's development files, pvbatch and its Python, MPI, and the development packages ParaView's
+# CMake package looks for (Debian's paraview-dev does not depend on them).
+PARAVIEW_PACKAGES := paraview paraview-dev python3-paraview python3-numpy python3-dev openmpi-bin libopenmpi-dev \
+  libhdf5-openmpi-dev libutfcpp-dev libglew-dev liblz4-dev libdouble-conversion-dev libtiff-dev xvfb xauth
 DEB_PACKAGES := cmake g++ clang make pkg-config libeigen3-dev libglm-dev glslang-tools glslang-dev \
   doctest-dev libosmesa6-dev libcli11-dev nlohmann-json3-dev libtbb-dev libmpfrc++-dev libmpfr-dev \
   libgmp-dev libbenchmark-dev libpng-dev nlohmann-json3-dev pymol-data zlib1g-dev libclang-rt-14-dev \
-  libcgal-dev libgmsh-dev
+  libcgal-dev libgmsh-dev $(PARAVIEW_PACKAGES)
 DEMO_PACKAGES :=
 # `make bench-vtk` only: VTK 9 (the peer renderer), NumPy for its arrays, Xvfb for its display.
 BENCH_VTK_PACKAGES := python3-vtk9 python3-numpy xvfb xauth
@@ -66,7 +71,7 @@ fuzz-build: deps
 	@if echo 'extern "C" int LLVMFuzzerTestOneInput(const char*, unsigned long) { return 0; }' | \
 	    clang++ -x c++ -fsanitize=fuzzer -o /dev/null - 2>/dev/null; then \
 	  [ -f $(FUZZ_BUILD)/CMakeCache.txt ] || cmake -S . -B $(FUZZ_BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-	    -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_FLAGS="$(FUZZ_FLAGS)" \
+	    -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_FLAGS="$(FUZZ_FLAGS)" -DQUADCAST_PARAVIEW_PLUGIN=OFF \
 	    -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" || exit 1; \
 	  cmake --build $(FUZZ_BUILD) -j $(JOBS) --target $(addprefix fuzz_,$(FUZZ_READERS)) || exit 1; \
 	else echo "fuzz-build: clang++ has no libFuzzer (apt-get install clang libclang-rt-14-dev); fuzz tests are skipped"; fi
@@ -88,7 +93,7 @@ SANITIZE_BUILD ?= build-sanitize
 SANITIZE_TARGETS ?= test_scene test_volume $(addprefix fuzz_,$(FUZZ_READERS))
 SANITIZE_TESTS ?= ^(scene|volume|fuzz_replay_.*)$$
 test-sanitize: deps
-	@[ -f $(SANITIZE_BUILD)/CMakeCache.txt ] || cmake -S . -B $(SANITIZE_BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+	@[ -f $(SANITIZE_BUILD)/CMakeCache.txt ] || cmake -S . -B $(SANITIZE_BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DQUADCAST_PARAVIEW_PLUGIN=OFF \
 	  -DCMAKE_CXX_FLAGS="-fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer" \
 	  -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined"
 	cmake --build $(SANITIZE_BUILD) -j $(JOBS) --target $(SANITIZE_TARGETS)

@@ -1,0 +1,378 @@
+#include "vtkQuadcastGlyphMapper.h"
+
+#include <dlfcn.h>
+
+#include <algorithm>
+#include <cmath>
+#include <exception>
+#include <string>
+#include <vector>
+
+#include "vtkActor.h"
+#include "vtkCamera.h"
+#include "vtkCompositeDataIterator.h"
+#include "vtkCompositeDataSet.h"
+#include "vtkDataArray.h"
+#include "vtkMath.h"
+#include "vtkMatrix4x4.h"
+#include "vtkObjectFactory.h"
+#include "vtkPiecewiseFunction.h"
+#include "vtkPointData.h"
+#include "vtkPolyData.h"
+#include "vtkProperty.h"
+#include "vtkRenderWindow.h"
+#include "vtkRenderer.h"
+#include "vtkScalarsToColors.h"
+#include "vtkSmartPointer.h"
+#include "vtkUnsignedCharArray.h"
+
+// quadcast after VTK's headers; none of VTK's OpenGL headers is included here, so quadcast's
+// loader brings <GL/glcorearb.h> and the renderer draws through its own function table.
+#include <quadcast/camera.hpp>
+#include <quadcast/gl/loader.hpp>
+#include <quadcast/gl/quadric_renderer.hpp>
+#include <quadcast/shapes.hpp>
+
+namespace {
+
+using GetProc = void* (*)(const char*);
+
+/// The current context's getProcAddress: GLX, EGL or OSMesa, whichever has a current context
+/// in this process (looked up at run time, so the plugin links none of them).
+GetProc current_context_resolver() {
+    struct Pair {
+        const char* current;
+        const char* resolve;
+    };
+    for (const Pair& p : {Pair{"glXGetCurrentContext", "glXGetProcAddressARB"}, Pair{"eglGetCurrentContext", "eglGetProcAddress"},
+                          Pair{"OSMesaGetCurrentContext", "OSMesaGetProcAddress"}}) {
+        auto current = reinterpret_cast<void* (*)()>(dlsym(RTLD_DEFAULT, p.current));
+        auto resolve = reinterpret_cast<GetProc>(dlsym(RTLD_DEFAULT, p.resolve));
+        if (current && resolve && current() != nullptr) return resolve;
+    }
+    return nullptr;
+}
+
+/// The GL state the host (VTK's state cache) relies on, saved before quadcast draws and put
+/// back after, so that VTK's cache stays true.
+class SavedState {
+public:
+    explicit SavedState(const quadcast::gl::Api& gl) : gl_(gl) {
+        gl.GetIntegerv(GL_CURRENT_PROGRAM, &program_);
+        gl.GetIntegerv(GL_VERTEX_ARRAY_BINDING, &vao_);
+        gl.GetIntegerv(GL_ARRAY_BUFFER_BINDING, &array_buffer_);
+        gl.GetIntegerv(GL_ACTIVE_TEXTURE, &active_texture_);
+        gl.GetIntegerv(GL_DEPTH_FUNC, &depth_func_);
+        GLboolean b[4];
+        gl.GetBooleanv(GL_DEPTH_WRITEMASK, b);
+        depth_mask_ = b[0];
+        gl.GetBooleanv(GL_COLOR_WRITEMASK, color_mask_);
+        for (std::size_t i = 0; i < std::size(caps_); ++i) enabled_[i] = gl.IsEnabled(caps_[i]);
+    }
+    ~SavedState() {
+        const quadcast::gl::Api& gl = gl_;
+        for (std::size_t i = 0; i < std::size(caps_); ++i) (enabled_[i] ? gl.Enable : gl.Disable)(caps_[i]);
+        gl.ColorMask(color_mask_[0], color_mask_[1], color_mask_[2], color_mask_[3]);
+        gl.DepthMask(depth_mask_);
+        gl.DepthFunc(static_cast<GLenum>(depth_func_));
+        gl.ActiveTexture(static_cast<GLenum>(active_texture_));
+        gl.BindVertexArray(static_cast<GLuint>(vao_));
+        gl.BindBuffer(GL_ARRAY_BUFFER, static_cast<GLuint>(array_buffer_));
+        gl.UseProgram(static_cast<GLuint>(program_));
+        for (GLuint i = 0; i < 8; ++i) gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, i, 0);
+    }
+    SavedState(const SavedState&) = delete;
+    SavedState& operator=(const SavedState&) = delete;
+
+private:
+    const quadcast::gl::Api& gl_;
+    static constexpr GLenum caps_[] = {GL_DEPTH_TEST, GL_BLEND, GL_CULL_FACE, GL_DEPTH_CLAMP, GL_SCISSOR_TEST, GL_POLYGON_OFFSET_FILL, GL_STENCIL_TEST};
+    GLboolean enabled_[std::size(caps_)] = {};
+    GLint program_ = 0, vao_ = 0, array_buffer_ = 0, active_texture_ = GL_TEXTURE0, depth_func_ = GL_LESS;
+    GLboolean depth_mask_ = GL_TRUE;
+    GLboolean color_mask_[4] = {GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE};
+};
+
+quadcast::Mat4<double> to_quadcast(const vtkMatrix4x4* m) {
+    quadcast::Mat4<double> r{};
+    for (int row = 0; row < 4; ++row)
+        for (int col = 0; col < 4; ++col) r[col][row] = m->GetElement(row, col);  // (columns first)
+    return r;
+}
+
+}  // namespace
+
+struct vtkQuadcastGlyphMapper::Internals {
+    // GL side: one function table and renderer for the render window they were made in.
+    vtkWindow* window = nullptr;
+    std::unique_ptr<quadcast::gl::Api> api;
+    std::unique_ptr<quadcast::gl::QuadricRenderer> renderer;
+    bool failed = false;  ///< the context could not be used (reported once)
+
+    // Host side: the spheres of the last build, untransformed.
+    std::vector<float> centers;  ///< xyz per glyph
+    std::vector<float> radii;
+    std::vector<unsigned char> colors;  ///< rgb + 1 per glyph of a mapped colour, 0 0 0 0 for the actor's colour
+    vtkIdType skipped = 0;
+    double bounds[6] = {1, -1, 1, -1, 1, -1};
+    vtkTimeStamp built;
+    vtkMTimeType uploaded_matrix = 0;  ///< MTime of the actor matrix and build the renderer holds
+    vtkTimeStamp upload_time;
+
+    void release() {
+        renderer.reset();
+        api.reset();
+        window = nullptr;
+        failed = false;
+    }
+};
+
+vtkStandardNewMacro(vtkQuadcastGlyphMapper);
+
+vtkQuadcastGlyphMapper::vtkQuadcastGlyphMapper() : Internal(std::make_unique<Internals>()) {}
+
+vtkQuadcastGlyphMapper::~vtkQuadcastGlyphMapper() {
+    // GL objects need their context: ReleaseGraphicsResources frees them while it is current.
+    // A renderer left here belongs to a window already gone; its names die with that context.
+    if (this->Internal->renderer) (void)this->Internal->renderer.release();
+    if (this->Internal->api) (void)this->Internal->api.release();
+}
+
+void vtkQuadcastGlyphMapper::PrintSelf(ostream& os, vtkIndent indent) {
+    this->Superclass::PrintSelf(os, indent);
+    os << indent << "Glyphs: " << this->GetNumberOfGlyphs() << "\n" << indent << "SkippedPoints: " << this->GetSkippedPoints() << "\n";
+}
+
+vtkIdType vtkQuadcastGlyphMapper::GetNumberOfGlyphs() const { return static_cast<vtkIdType>(this->Internal->radii.size()); }
+vtkIdType vtkQuadcastGlyphMapper::GetSkippedPoints() const { return this->Internal->skipped; }
+
+namespace {
+
+/// The value a point contributes to its radius: the component, or the magnitude when the
+/// component is outside the array (as vtkOpenGLPointGaussianMapper reads its scale array).
+double scale_value(vtkDataArray* a, vtkIdType i, int component) {
+    const int n = a->GetNumberOfComponents();
+    if (n == 1) return a->GetComponent(i, 0);
+    if (component >= 0 && component < n) return a->GetComponent(i, component);
+    double s = 0;
+    for (int c = 0; c < n; ++c) s += a->GetComponent(i, c) * a->GetComponent(i, c);
+    return std::sqrt(s);
+}
+
+}  // namespace
+
+namespace {
+
+/// The polygonal blocks of a mapper input (one vtkPolyData, or a composite data set of them).
+std::vector<vtkPolyData*> polydata_blocks(vtkDataObject* input) {
+    std::vector<vtkPolyData*> blocks;
+    if (auto* pd = vtkPolyData::SafeDownCast(input)) blocks.push_back(pd);
+    if (auto* cd = vtkCompositeDataSet::SafeDownCast(input)) {
+        vtkSmartPointer<vtkCompositeDataIterator> it;
+        it.TakeReference(cd->NewIterator());
+        for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
+            if (auto* pd = vtkPolyData::SafeDownCast(it->GetCurrentDataObject())) blocks.push_back(pd);
+    }
+    return blocks;
+}
+
+}  // namespace
+
+template <class Block, class Glyph>
+vtkIdType vtkQuadcastGlyphMapper::ForEachGlyph(vtkDataObject* input, Block&& block, Glyph&& glyph) {
+    vtkIdType skipped = 0;
+    for (vtkPolyData* pd : polydata_blocks(input)) {
+        const vtkIdType n = pd->GetNumberOfPoints();
+        if (n == 0) continue;
+        vtkDataArray* scale = this->ScaleArray ? pd->GetPointData()->GetArray(this->ScaleArray) : nullptr;
+        block(pd);
+        for (vtkIdType i = 0; i < n; ++i) {
+            double r = this->ScaleFactor;
+            if (scale) {
+                double s = scale_value(scale, i, this->ScaleArrayComponent);
+                if (this->ScaleFunction) s = this->ScaleFunction->GetValue(s);
+                r *= s;
+            }
+            double p[3];
+            pd->GetPoint(i, p);
+            if (!(r > 0) || !std::isfinite(r) || !(r < 3e38) || !std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) {
+                ++skipped;
+                continue;
+            }
+            glyph(i, p, r);
+        }
+    }
+    return skipped;
+}
+
+void vtkQuadcastGlyphMapper::ComputeGlyphBounds(vtkDataObject* input, double bounds[6]) {
+    vtkMath::UninitializeBounds(bounds);
+    bool any = false;
+    this->ForEachGlyph(input, [](vtkPolyData*) {}, [&](vtkIdType, const double p[3], double r) {
+        for (int k = 0; k < 3; ++k) {
+            bounds[2 * k] = any ? std::min(bounds[2 * k], p[k] - r) : p[k] - r;
+            bounds[2 * k + 1] = any ? std::max(bounds[2 * k + 1], p[k] + r) : p[k] + r;
+        }
+        any = true;
+    });
+}
+
+double* vtkQuadcastGlyphMapper::GetBounds() {
+    Internals& in = *this->Internal;
+    vtkDataObject* input = this->GetInputDataObject(0, 0);
+    const vtkMTimeType newest = std::max<vtkMTimeType>({this->GetMTime(), input ? input->GetMTime() : 0,
+                                                        this->LookupTable ? this->LookupTable->GetMTime() : 0,
+                                                        this->ScaleFunction ? this->ScaleFunction->GetMTime() : 0});
+    if (newest > in.built.GetMTime() || in.built.GetMTime() == 0) {
+        in.centers.clear();
+        in.radii.clear();
+        in.colors.clear();
+        vtkMath::UninitializeBounds(in.bounds);
+        bool any = false;
+        vtkUnsignedCharArray* mapped = nullptr;
+        int comps = 0;
+        in.skipped = this->ForEachGlyph(
+            input,
+            [&](vtkPolyData* pd) {
+                int cell_flag = 0;
+                mapped = this->ScalarVisibility ? this->MapScalars(pd, 1.0, cell_flag) : nullptr;
+                if (mapped && (cell_flag != 0 || mapped->GetNumberOfTuples() != pd->GetNumberOfPoints())) mapped = nullptr;
+                comps = mapped ? mapped->GetNumberOfComponents() : 0;
+            },
+            [&](vtkIdType i, const double p[3], double r) {
+                for (int k = 0; k < 3; ++k) in.centers.push_back(static_cast<float>(p[k]));
+                in.radii.push_back(static_cast<float>(r));
+                if (mapped) {
+                    const unsigned char* c = mapped->GetPointer(i * comps);  // (1 or 2 components: luminance)
+                    in.colors.insert(in.colors.end(), {c[0], c[comps >= 3 ? 1 : 0], c[comps >= 3 ? 2 : 0], 1});
+                } else {
+                    in.colors.insert(in.colors.end(), {0, 0, 0, 0});
+                }
+                for (int k = 0; k < 3; ++k) {
+                    in.bounds[2 * k] = any ? std::min(in.bounds[2 * k], p[k] - r) : p[k] - r;
+                    in.bounds[2 * k + 1] = any ? std::max(in.bounds[2 * k + 1], p[k] + r) : p[k] + r;
+                }
+                any = true;
+            });
+        in.built.Modified();
+    }
+    std::copy(in.bounds, in.bounds + 6, this->Bounds);
+    return this->Bounds;
+}
+
+void vtkQuadcastGlyphMapper::Render(vtkRenderer* ren, vtkActor* act) {
+    Internals& in = *this->Internal;
+    if (ren->GetSelector() != nullptr) return;  // (hardware selection: not drawn, see the header)
+    vtkRenderWindow* win = ren->GetRenderWindow();
+    this->GetBounds();  // (re)builds the spheres when the input, the colouring or the mapper changed
+    if (in.window != win) {
+        if (in.window) this->ReleaseGraphicsResources(in.window);
+        in.window = win;
+        try {
+            const GetProc resolve = current_context_resolver();
+            if (!resolve) throw std::runtime_error("no current GLX, EGL or OSMesa context");
+            in.api = std::make_unique<quadcast::gl::Api>(quadcast::gl::Api::load(resolve));
+            in.renderer = std::make_unique<quadcast::gl::QuadricRenderer>(*in.api);
+        } catch (const std::exception& e) {
+            in.renderer.reset();
+            in.api.reset();
+            in.failed = true;
+            vtkErrorMacro(<< "Quadric Glyphs cannot draw in this render window: " << e.what());
+        }
+        in.upload_time = vtkTimeStamp();
+        in.uploaded_matrix = 0;
+    }
+    if (!in.renderer) return;
+
+    // The actor's matrix moves the spheres: it must be a similarity (rotation, translation, one scale).
+    vtkMatrix4x4* m = act->GetMatrix();
+    double scale = 1;
+    {
+        double len[3];
+        for (int c = 0; c < 3; ++c) len[c] = std::sqrt(m->GetElement(0, c) * m->GetElement(0, c) + m->GetElement(1, c) * m->GetElement(1, c) + m->GetElement(2, c) * m->GetElement(2, c));
+        scale = len[0];
+        bool similar = m->GetElement(3, 0) == 0 && m->GetElement(3, 1) == 0 && m->GetElement(3, 2) == 0 && m->GetElement(3, 3) == 1;
+        for (int a = 0; a < 3 && similar; ++a) {
+            if (std::fabs(len[a] - scale) > 1e-6 * scale) similar = false;
+            for (int b = a + 1; b < 3; ++b) {
+                double d = 0;
+                for (int r = 0; r < 3; ++r) d += m->GetElement(r, a) * m->GetElement(r, b);
+                if (std::fabs(d) > 1e-6 * scale * scale) similar = false;
+            }
+        }
+        if (!similar || !(scale > 0)) {
+            vtkErrorMacro(<< "Quadric Glyphs: the representation's Scale/Orientation/Position must scale all axes alike (spheres stay spheres); nothing drawn");
+            return;
+        }
+    }
+    double diffuse[3];
+    act->GetProperty()->GetDiffuseColor(diffuse);
+    const vtkMTimeType state = std::max({m->GetMTime(), act->GetProperty()->GetMTime()});
+    if (in.upload_time.GetMTime() < in.built.GetMTime() || in.uploaded_matrix != state) {
+        std::vector<quadcast::render::Primitive> prims;
+        prims.reserve(in.radii.size());
+        namespace qs = quadcast::shapes;
+        qs::Appearance look;
+        try {
+            for (std::size_t i = 0; i < in.radii.size(); ++i) {
+                double p[4] = {in.centers[3 * i], in.centers[3 * i + 1], in.centers[3 * i + 2], 1}, q[4];
+                m->MultiplyPoint(p, q);
+                const unsigned char* c = &in.colors[4 * i];
+                look.color = c[3] ? glm::vec3(c[0] / 255.0f, c[1] / 255.0f, c[2] / 255.0f)
+                                  : glm::vec3(static_cast<float>(diffuse[0]), static_cast<float>(diffuse[1]), static_cast<float>(diffuse[2]));
+                prims.push_back(qs::sphere(glm::vec3(static_cast<float>(q[0]), static_cast<float>(q[1]), static_cast<float>(q[2])),
+                                           static_cast<float>(static_cast<double>(in.radii[i]) * scale), look));
+            }
+            in.renderer->set_primitives(prims);
+        } catch (const std::exception& e) {
+            vtkErrorMacro(<< "Quadric Glyphs: " << e.what());
+            return;
+        }
+        in.upload_time.Modified();
+        in.uploaded_matrix = state;
+    }
+
+    // The view's camera: VTK's view and projection matrices (row-major) for this viewport's aspect.
+    int width = 0, height = 0, x0 = 0, y0 = 0;
+    ren->GetTiledSizeAndOrigin(&width, &height, &x0, &y0);
+    if (width <= 0 || height <= 0) return;
+    vtkCamera* cam = ren->GetActiveCamera();
+    quadcast::render::Camera camera;
+    try {
+        camera = quadcast::camera_from_matrices(to_quadcast(cam->GetModelViewTransformMatrix()),
+                                                to_quadcast(cam->GetProjectionTransformMatrix(static_cast<double>(width) / height, -1, 1)));
+    } catch (const std::exception& e) {
+        vtkErrorMacro(<< "Quadric Glyphs: " << e.what());
+        return;
+    }
+    quadcast::render::Light light;
+    double dop[3];
+    cam->GetDirectionOfProjection(dop);
+    light.direction = quadcast::Vec3<float>{{static_cast<float>(dop[0]), static_cast<float>(dop[1]), static_cast<float>(dop[2])}};
+    quadcast::render::RenderOptions options;
+    options.width = width;
+    options.height = height;
+    options.occlusion_culling = false;
+
+    const quadcast::gl::Api& gl = *in.api;
+    SavedState saved(gl);
+    gl.Enable(GL_DEPTH_TEST);
+    gl.DepthMask(GL_TRUE);
+    gl.DepthFunc(GL_LESS);
+    gl.Disable(GL_BLEND);
+    gl.Disable(GL_CULL_FACE);
+    gl.Disable(GL_POLYGON_OFFSET_FILL);
+    gl.Disable(GL_STENCIL_TEST);
+    try {
+        in.renderer->draw_primitives(camera, light, options, false);
+    } catch (const std::exception& e) {
+        vtkErrorMacro(<< "Quadric Glyphs: " << e.what());
+    }
+}
+
+void vtkQuadcastGlyphMapper::ReleaseGraphicsResources(vtkWindow* win) {
+    Internals& in = *this->Internal;
+    // VTK calls this with the window's context current (as for its own mappers' GL objects).
+    if (win && win == in.window) in.release();
+    this->Superclass::ReleaseGraphicsResources(win);
+}

@@ -1,0 +1,35 @@
+// vtkQuadcastGlyphRepresentation -- ParaView's "Quadric Glyphs": points as spheres ray cast by quadcast
+#ifndef vtkQuadcastGlyphRepresentation_h
+#define vtkQuadcastGlyphRepresentation_h
+
+#include "QuadcastRepresentationsModule.h"  // for the export macro
+#include "vtkPointGaussianRepresentation.h"
+
+class vtkQuadcastGlyphMapper;
+
+/// The data path of ParaView's Point Gaussian representation (every point of any data set,
+/// delivered to the rendering ranks, ordered compositing, scalar colouring through the lookup
+/// table, radius from GlyphRadius / SetSplatSize and a scale array) with quadcast's mapper, which
+/// draws each point as an exact sphere. The scale array's values are used as they are (no scale
+/// transfer function by default).
+class QUADCASTREPRESENTATIONS_EXPORT vtkQuadcastGlyphRepresentation : public vtkPointGaussianRepresentation {
+public:
+    static vtkQuadcastGlyphRepresentation* New();
+    vtkTypeMacro(vtkQuadcastGlyphRepresentation, vtkPointGaussianRepresentation);
+    void PrintSelf(ostream& os, vtkIndent indent) override;
+    /// The mapper (for tests and host code: glyph counts).
+    vtkQuadcastGlyphMapper* GetGlyphMapper();
+    /// As the Point Gaussian representation's, but the geometry bounds given to the view (camera
+    /// reset, clipping range) hold the spheres, not only their centres.
+    int ProcessViewRequest(vtkInformationRequestKey* request_type, vtkInformation* inInfo, vtkInformation* outInfo) override;
+
+protected:
+    vtkQuadcastGlyphRepresentation();
+    ~vtkQuadcastGlyphRepresentation() override;
+
+private:
+    vtkQuadcastGlyphRepresentation(const vtkQuadcastGlyphRepresentation&) = delete;
+    void operator=(const vtkQuadcastGlyphRepresentation&) = delete;
+};
+
+#endif

@@ -1,0 +1,229 @@
+# The "Quadric Glyphs" representation in pvbatch, on 1 or 2 MPI ranks, against an exact reference.
+#
+#   pvbatch glyphs.py PLUGIN OUT_PREFIX [REFERENCE_PREFIX]
+#
+# A scene of random spheres (radius from a point array times GlyphRadius, coloured through the
+# lookup table) cut by an opaque ParaView plane, drawn in a render view. Under MPI the points are
+# redistributed over the ranks (RedistributeDataSet) and IceT composites the ranks' images by depth.
+#
+# Checked, per pixel of the view, against the scene computed here in double precision (numpy): the
+# pixel ray of the view's own projection against every sphere and the plane.
+#   - coverage: a pixel is covered exactly where its ray meets a sphere or the plane, except
+#     where the ray passes within 0.02 pixels of a sphere's outline (rounding decides there);
+#   - depth: the window depth ParaView's depth buffer holds is the nearest hit's, within 2e-6
+#     (float rounding of the ray cast), wherever the nearest hit is a sphere not closer than 0.02
+#     pixels to its outline and not within 1e-5 of the plane's depth (a tie);
+#   - composition: pixels whose nearest hit is the plane show the plane's colour (green, lit),
+#     pixels whose nearest hit is a sphere do not.
+# The depth check needs the view's depth buffer, read on one rank only; coverage and composition are
+# checked on the composited screenshot on any number of ranks.
+# With REFERENCE_PREFIX (the 1-rank run's OUT_PREFIX) the image must also equal that run's:
+# identical coverage, colours within 1 level.
+# Writes OUT_PREFIX.png and OUT_PREFIX_rgb.npy. Exit status 1 on any failure (a RuntimeError).
+import sys
+
+import numpy as np
+from paraview.simple import *  # noqa: F401,F403
+from paraview import servermanager
+import vtk
+from vtk.util import numpy_support
+
+plugin, out = sys.argv[1], sys.argv[2]
+reference = sys.argv[3] if len(sys.argv) > 3 else None
+LoadPlugin(plugin, remote=False, ns=globals())
+
+W, H = 320, 240
+N = 300
+GLYPH_RADIUS = 0.04
+PLANE_Z = 0.5
+
+# Random spheres in the unit cube: radius GLYPH_RADIUS * (0.5 .. 1.5), coloured by x.
+rng = np.random.default_rng(11)
+centers = rng.random((N, 3))
+scales = 0.5 + rng.random(N)
+radii = GLYPH_RADIUS * scales
+points = vtk.vtkPoints()
+points.SetData(numpy_support.numpy_to_vtk(centers, deep=1))
+scale_array = numpy_support.numpy_to_vtk(scales, deep=1)
+scale_array.SetName("scale")
+value_array = numpy_support.numpy_to_vtk(centers[:, 0].copy(), deep=1)
+value_array.SetName("value")
+poly = vtk.vtkPolyData()
+poly.SetPoints(points)
+verts = vtk.vtkCellArray()  # (one vertex cell per point: RedistributeDataSet moves cells)
+for i in range(N):
+    verts.InsertNextCell(1)
+    verts.InsertCellPoint(i)
+poly.SetVerts(verts)
+poly.GetPointData().AddArray(scale_array)
+poly.GetPointData().AddArray(value_array)
+writer = vtk.vtkXMLPolyDataWriter()
+writer.SetFileName(out + "_points.vtp")
+writer.SetInputData(poly)
+writer.Write()
+
+source = XMLPolyDataReader(FileName=[out + "_points.vtp"])
+ranks = servermanager.ActiveConnection.GetNumberOfDataPartitions()
+if ranks > 1:
+    source = RedistributeDataSet(Input=source)
+    ids = ProcessIdScalars(Input=source)
+    ids.UpdatePipeline()
+    lo, hi = ids.PointData["ProcessId"].GetRange()
+    print(f"glyphs: {ranks} ranks, points on ranks {lo:.0f}..{hi:.0f}")
+    if hi < 1:
+        print("FAIL: the points were not distributed over the ranks")
+        sys.exit(1)
+
+view = CreateView("RenderView")
+view.ViewSize = [W, H]
+view.OrientationAxesVisibility = 0
+view.Background = [1, 0, 1]  # (magenta: no shaded sphere or plane colour is)
+view.UseColorPaletteForBackground = 0
+view.UseFXAA = 0  # (antialiasing would blend the colours of neighbouring pixels)
+glyphs = Show(source, view)
+glyphs.SetRepresentationType("Quadric Glyphs")
+glyphs.GlyphRadius = GLYPH_RADIUS
+glyphs.GlyphScaleByArray = 1
+glyphs.GlyphScaleArray = ["POINTS", "scale"]
+ColorBy(glyphs, ("POINTS", "value"))
+plane = Plane(Origin=[-0.3, -0.3, PLANE_Z], Point1=[1.3, -0.3, PLANE_Z], Point2=[-0.3, 1.3, PLANE_Z])
+plane_display = Show(plane, view)
+plane_display.DiffuseColor = [0, 1, 0]
+plane_display.AmbientColor = [0, 1, 0]
+plane_display.ColorArrayName = ["POINTS", ""]
+Render(view)  # (the first render resets the camera to the data; the view is set after it)
+camera = view.GetActiveCamera()
+camera.SetPosition(0.5 + 1.4, 0.5 - 1.1, 0.5 + 2.0)
+camera.SetFocalPoint(0.5, 0.5, 0.45)
+camera.SetViewUp(0, 0, 1)
+camera.SetViewAngle(30)
+view.CameraParallelProjection = 0
+Render(view)
+# The depth buffer on one rank (IceT composites colours into the screenshot; the window's own
+# depth buffer holds the composited depths only when there is one rank).
+depth = None
+if ranks == 1:
+    window = view.GetRenderWindow()
+    zbuf = vtk.vtkFloatArray()
+    window.GetZbufferData(0, 0, W - 1, H - 1, zbuf)
+    depth = numpy_support.vtk_to_numpy(zbuf).reshape(H, W).astype(np.float64)
+
+SaveScreenshot(out + ".png", view, ImageResolution=[W, H])
+
+# The composited colour image (the screenshot: IceT's under MPI), rows bottom first.
+png = vtk.vtkPNGReader()
+png.SetFileName(out + ".png")
+png.Update()
+image = png.GetOutput()
+rgb = numpy_support.vtk_to_numpy(image.GetPointData().GetScalars()).reshape(H, W, -1)[:, :, :3].astype(np.int32)
+covered = ~((rgb[..., 0] == 255) & (rgb[..., 1] == 0) & (rgb[..., 2] == 255))
+np.save(out + "_rgb.npy", rgb)
+# The exact scene along each pixel ray, from the camera's own matrices.
+renderer = view.GetRenderer()
+aspect = W / H
+m = camera.GetCompositeProjectionTransformMatrix(aspect, -1, 1)
+M = np.array([[m.GetElement(r, c) for c in range(4)] for r in range(4)])
+Minv = np.linalg.inv(M)
+xs = (np.arange(W) + 0.5) / W * 2 - 1
+ys = (np.arange(H) + 0.5) / H * 2 - 1
+X, Y = np.meshgrid(xs, ys)
+def unproject(z):
+    p = np.stack([X, Y, np.full_like(X, z), np.ones_like(X)], axis=-1) @ Minv.T
+    return p[..., :3] / p[..., 3:4]
+near_pts, far_pts = unproject(-1.0), unproject(1.0)
+origin = np.array(camera.GetPosition())
+dirs = far_pts - origin
+dirs /= np.linalg.norm(dirs, axis=-1, keepdims=True)
+
+def window_depth(t):
+    p = origin + dirs * t[..., None]
+    h = np.concatenate([p, np.ones(p.shape[:-1] + (1,))], axis=-1) @ M.T
+    return (h[..., 2] / h[..., 3] + 1) / 2
+
+inf = np.inf
+t_sphere = np.full((H, W), inf)
+rim = np.zeros((H, W), dtype=bool)  # the ray passes within 0.02 px of some sphere's outline
+pixel_angle = np.radians(30) / H  # radians per pixel (vertical field of view / rows)
+for c, r in zip(centers, radii):
+    oc = origin - c
+    b = np.einsum("ijk,k->ij", dirs, oc)
+    cc = oc @ oc - r * r
+    disc = b * b - cc
+    hit = disc >= 0
+    t = np.where(hit, -b - np.sqrt(np.where(hit, disc, 0)), inf)
+    t = np.where(t > 0, t, inf)
+    t_sphere = np.minimum(t_sphere, t)
+    # distance of the ray from the centre, against r, in pixels at the centre's distance
+    dist_axis = np.sqrt(np.maximum(oc @ oc - b * b, 0))
+    d = np.sqrt(oc @ oc)
+    rim |= np.abs(dist_axis - r) < 0.02 * pixel_angle * d
+t_plane = np.where(np.abs(dirs[..., 2]) > 0, (PLANE_Z - origin[2]) / dirs[..., 2], inf)
+p = origin + dirs * np.where(np.isfinite(t_plane), t_plane, 0)[..., None]
+on_plane = np.isfinite(t_plane) & (t_plane > 0) & (p[..., 0] >= -0.3) & (p[..., 0] <= 1.3) & (p[..., 1] >= -0.3) & (p[..., 1] <= 1.3)
+t_plane = np.where(on_plane, t_plane, inf)
+z_sphere = np.where(np.isfinite(t_sphere), window_depth(np.where(np.isfinite(t_sphere), t_sphere, 1)), 1.0)
+z_plane = np.where(np.isfinite(t_plane), window_depth(np.where(np.isfinite(t_plane), t_plane, 1)), 1.0)
+z_exact = np.minimum(z_sphere, z_plane)
+
+failures = []
+exact_covered = z_exact < 1.0
+coverage_diff = (covered != exact_covered) & ~rim
+sphere_front = (z_sphere < z_plane) & np.isfinite(t_sphere)
+plane_front = (z_plane < z_sphere) & np.isfinite(t_plane)
+tie = np.abs(z_sphere - z_plane) < 1e-5
+checked = sphere_front & ~rim & ~tie & covered
+plane_colour = rgb[..., 1] - np.maximum(rgb[..., 0], rgb[..., 2]) > 100  # (no colour of the lookup table is)
+print(f"glyphs: {W}x{H}, {N} spheres; covered {covered.sum()} px (exact {exact_covered.sum()}), "
+      f"sphere in front {sphere_front.sum()}, plane in front {plane_front.sum()}, outline px {rim.sum()}")
+print(f"glyphs: coverage differences away from outlines {coverage_diff.sum()}")
+if coverage_diff.any():
+    failures.append(f"{coverage_diff.sum()} pixels covered differently from the exact scene")
+if checked.sum() < 2000:
+    failures.append(f"only {checked.sum()} sphere pixels checked: the scene does not show the spheres")
+if depth is not None:
+    # (The view's orientation-axes renderer clears the depth buffer in the lower-left quarter of
+    # each side even when the axes are hidden: no depth is checked there; colours are.)
+    axes_box = (np.arange(W)[None, :] < W // 4) & (np.arange(H)[:, None] < H // 4)
+    depth = np.where(axes_box & covered, z_exact, depth)
+    depth_err = np.abs(depth - z_exact)
+    plane_checked = plane_front & ~tie & ~rim & ~axes_box
+    checked = checked & ~axes_box
+    print(f"glyphs: sphere depth max error {depth_err[checked].max():.3g} over {checked.sum()} px; "
+          f"plane depth max error {depth_err[plane_checked].max():.3g} over {plane_checked.sum()} px")
+    if (depth < 1.0).sum() != covered.sum() or ((depth < 1.0) != covered).any():
+        failures.append("the depth buffer and the colour image cover different pixels")
+    if depth_err[checked].max() > 2e-6:
+        failures.append(f"sphere depth off by {depth_err[checked].max():.3g}")
+    if depth_err[plane_checked].max() > 2e-6:
+        failures.append(f"plane depth off by {depth_err[plane_checked].max():.3g}")
+wrong_plane = plane_front & ~tie & ~rim & ~plane_colour
+wrong_sphere = sphere_front & ~tie & ~rim & plane_colour
+for j, i in zip(*np.nonzero(wrong_plane | wrong_sphere)):
+    print(f"  pixel ({i}, {j}): rgb {rgb[j, i]}, depth {depth[j, i]:.7f}, sphere {z_sphere[j, i]:.7f}, plane {z_plane[j, i]:.7f}")
+print(f"glyphs: plane pixels not plane-coloured {wrong_plane.sum()}, sphere pixels plane-coloured {wrong_sphere.sum()}")
+if wrong_plane.any() or wrong_sphere.any():
+    failures.append("the spheres and the plane are not composed by depth")
+# Colour by the lookup table: the leftmost and rightmost spheres differ in colour (blue .. red).
+sphere_rgb = rgb[checked]
+if not (sphere_rgb[:, 2].max() - sphere_rgb[:, 0].min() > 100 and sphere_rgb[:, 0].max() - sphere_rgb[:, 2].min() > 100):
+    failures.append("the spheres are not coloured through the lookup table")
+
+if reference:
+    ref_rgb = np.load(reference + "_rgb.npy")
+    ref_covered = ~((ref_rgb[..., 0] == 255) & (ref_rgb[..., 1] == 0) & (ref_rgb[..., 2] == 255))
+    cov = ref_covered != covered
+    both = ref_covered & covered
+    dc = np.abs(ref_rgb - rgb)[both].max() if both.any() else 0
+    print(f"glyphs: against {reference}: coverage differences {cov.sum()}, colour max difference {dc}")
+    if cov.any() or dc > 1:
+        failures.append("the image differs from the reference run's")
+
+for f in failures:
+    print("FAIL:", f)
+# Delete the view while the process's shared render window lives: left to the interpreter's exit,
+# the view's window is finalized after that window's GLX context (GLXBadContext from
+# glXMakeCurrent, exit status 1, with or without this plugin).
+Delete(view)
+del view
+if failures:  # (an exception: pvbatch then exits with status 1 on every rank, through MPI_Finalize)
+    raise RuntimeError("; ".join(failures))
