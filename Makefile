@@ -15,7 +15,7 @@ DEMO_PACKAGES :=
 # `make bench-vtk` only: VTK 9 (the peer renderer), NumPy for its arrays, Xvfb for its display.
 BENCH_VTK_PACKAGES := python3-vtk9 python3-numpy xvfb xauth
 
-.PHONY: bench-vtk all deps demo-deps configure build test demo regenerate clean data install fuzz fuzz-build test-sanitize test-clang
+.PHONY: bench-vtk bench-paraview all deps demo-deps configure build test demo regenerate clean data install fuzz fuzz-build test-sanitize test-clang
 
 all: build
 
@@ -39,6 +39,16 @@ bench-vtk-deps:
 BENCH_VTK_ARGS ?=
 bench-vtk: build bench-vtk-deps
 	/usr/bin/python3 tools/bench_vtk.py --quadcast $(BUILD)/tools/quadcast $(BENCH_VTK_ARGS)
+
+# The ParaView plugin's Quadric Glyphs against ParaView's Point Gaussian and 3D Glyphs
+# representations in pvbatch (paraview/bench/glyphs_bench.py), on 1 and on 2 MPI ranks, per count.
+BENCH_PARAVIEW_COUNTS ?= 10000 100000 1000000
+BENCH_PARAVIEW_FRAMES ?= 5
+bench-paraview: build
+	@for n in $(BENCH_PARAVIEW_COUNTS); do for r in 1 2; do \
+	  xvfb-run -a -s "-screen 0 1280x1024x24" mpirun --allow-run-as-root --oversubscribe -np $$r pvbatch \
+	    paraview/bench/glyphs_bench.py $(BUILD)/lib/quadcast/paraview/Quadcast/Quadcast.so --count $$n --frames $(BENCH_PARAVIEW_FRAMES) || exit 1; \
+	done; done
 
 demo-deps:
 	@missing=$$(for p in $(DEMO_PACKAGES); do dpkg-query -W -f='$${Status}\n' $$p 2>/dev/null | grep -q '^install ok installed' || echo $$p; done); \

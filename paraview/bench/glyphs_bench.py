@@ -44,9 +44,16 @@ verts.SetData(offsets, conn)
 poly = vtk.vtkPolyData()
 poly.SetPoints(points)
 poly.SetVerts(verts)
-producer = PVTrivialProducer()
-producer.GetClientSideObject().SetOutput(poly)
-source = RedistributeDataSet(Input=producer) if ranks > 1 else producer
+path = "/tmp/quadcast_glyphs_bench_%d.vtp" % n
+writer = vtk.vtkXMLPolyDataWriter()
+writer.SetFileName(path)
+writer.SetInputData(poly)
+writer.SetDataModeToAppended()
+writer.Write()
+source = XMLPolyDataReader(FileName=[path])
+if ranks > 1:
+    source = RedistributeDataSet(Input=source)
+source.UpdatePipeline()  # (collective: every rank reads and redistributes here, not in a render)
 
 view = CreateView("RenderView")
 view.ViewSize = [1024, 768]

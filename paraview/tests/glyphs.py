@@ -1,6 +1,11 @@
 # The "Quadric Glyphs" representation in pvbatch, on 1 or 2 MPI ranks, against an exact reference.
 #
-#   pvbatch glyphs.py PLUGIN OUT_PREFIX [REFERENCE_PREFIX]
+#   pvbatch glyphs.py PLUGIN OUT_PREFIX [REFERENCE_PREFIX] [--tensors]
+#
+# --tensors: every point is the ellipsoid of a random symmetric positive-definite tensor (a
+# 6-component point array in VTK's symmetric order xx yy zz xy yz xz, eigenvalues 0.4 .. 1.6)
+# scaled by the same radius, whose semi-axes are the eigenvectors times their eigenvalues; the
+# reference intersects each pixel ray with the ellipsoid {c + r T u : |u| <= 1}.
 #
 # A scene of random spheres (radius from a point array times GlyphRadius, coloured through the
 # lookup table) cut by an opaque ParaView plane, drawn in a render view. Under MPI the points are
@@ -28,8 +33,10 @@ from paraview import servermanager
 import vtk
 from vtk.util import numpy_support
 
-plugin, out = sys.argv[1], sys.argv[2]
-reference = sys.argv[3] if len(sys.argv) > 3 else None
+argv = [a for a in sys.argv[1:] if a != "--tensors"]
+tensor_mode = "--tensors" in sys.argv  # tensor ellipsoids instead of spheres
+plugin, out = argv[0], argv[1]
+reference = argv[2] if len(argv) > 2 else None
 LoadPlugin(plugin, remote=False, ns=globals())
 
 W, H = 320, 240
@@ -42,6 +49,11 @@ rng = np.random.default_rng(11)
 centers = rng.random((N, 3))
 scales = 0.5 + rng.random(N)
 radii = GLYPH_RADIUS * scales
+tensors = np.tile(np.eye(3), (N, 1, 1))
+if tensor_mode:
+    for k in range(N):
+        q, _ = np.linalg.qr(rng.normal(size=(3, 3)))
+        tensors[k] = q @ np.diag(0.4 + 1.2 * rng.random(3)) @ q.T
 points = vtk.vtkPoints()
 points.SetData(numpy_support.numpy_to_vtk(centers, deep=1))
 scale_array = numpy_support.numpy_to_vtk(scales, deep=1)
@@ -57,6 +69,11 @@ for i in range(N):
 poly.SetVerts(verts)
 poly.GetPointData().AddArray(scale_array)
 poly.GetPointData().AddArray(value_array)
+if tensor_mode:
+    sym = np.stack([tensors[:, 0, 0], tensors[:, 1, 1], tensors[:, 2, 2], tensors[:, 0, 1], tensors[:, 1, 2], tensors[:, 0, 2]], axis=1)
+    tensor_array = numpy_support.numpy_to_vtk(sym, deep=1)
+    tensor_array.SetName("tensor")
+    poly.GetPointData().AddArray(tensor_array)
 writer = vtk.vtkXMLPolyDataWriter()
 writer.SetFileName(out + "_points.vtp")
 writer.SetInputData(poly)
@@ -83,6 +100,9 @@ view.UseFXAA = 0  # (antialiasing would blend the colours of neighbouring pixels
 glyphs = Show(source, view)
 glyphs.SetRepresentationType("Quadric Glyphs")
 glyphs.GlyphRadius = GLYPH_RADIUS
+if tensor_mode:
+    glyphs.QuadricGlyphType = "Tensor Ellipsoid"
+    glyphs.GlyphTensorArray = ["POINTS", "tensor"]
 glyphs.GlyphScaleByArray = 1
 glyphs.GlyphScaleArray = ["POINTS", "scale"]
 ColorBy(glyphs, ("POINTS", "value"))
@@ -144,19 +164,24 @@ inf = np.inf
 t_sphere = np.full((H, W), inf)
 rim = np.zeros((H, W), dtype=bool)  # the ray passes within 0.02 px of some sphere's outline
 pixel_angle = np.radians(30) / H  # radians per pixel (vertical field of view / rows)
-for c, r in zip(centers, radii):
-    oc = origin - c
-    b = np.einsum("ijk,k->ij", dirs, oc)
-    cc = oc @ oc - r * r
-    disc = b * b - cc
+for c, r, T in zip(centers, radii, tensors):
+    # the ellipsoid c + A u, |u| <= 1, A = r T (a sphere: T = I); the ray in u coordinates
+    Ainv = np.linalg.inv(r * T)
+    o_l = Ainv @ (origin - c)
+    d_l = dirs @ Ainv.T
+    a = np.einsum("ijk,ijk->ij", d_l, d_l)
+    b = d_l @ o_l
+    cc = o_l @ o_l - 1
+    disc = b * b - a * cc
     hit = disc >= 0
-    t = np.where(hit, -b - np.sqrt(np.where(hit, disc, 0)), inf)
+    t = np.where(hit, (-b - np.sqrt(np.where(hit, disc, 0))) / a, inf)
     t = np.where(t > 0, t, inf)
     t_sphere = np.minimum(t_sphere, t)
-    # distance of the ray from the centre, against r, in pixels at the centre's distance
-    dist_axis = np.sqrt(np.maximum(oc @ oc - b * b, 0))
-    d = np.sqrt(oc @ oc)
-    rim |= np.abs(dist_axis - r) < 0.02 * pixel_angle * d
+    # how far the ray passes from the outline, in pixels at the centre's distance (its distance
+    # from the centre in u coordinates against 1, times the largest semi-axis)
+    dist_l = np.sqrt(np.maximum(cc + 1 - b * b / a, 0))
+    d = np.linalg.norm(origin - c)
+    rim |= np.abs(dist_l - 1) * r * np.linalg.eigvalsh(T).max() < 0.02 * pixel_angle * d
 t_plane = np.where(np.abs(dirs[..., 2]) > 0, (PLANE_Z - origin[2]) / dirs[..., 2], inf)
 p = origin + dirs * np.where(np.isfinite(t_plane), t_plane, 0)[..., None]
 on_plane = np.isfinite(t_plane) & (t_plane > 0) & (p[..., 0] >= -0.3) & (p[..., 0] <= 1.3) & (p[..., 1] >= -0.3) & (p[..., 1] <= 1.3)

@@ -112,8 +112,10 @@ struct vtkQuadcastGlyphMapper::Internals {
     // Host side: the spheres of the last build, untransformed.
     std::vector<float> centers;  ///< xyz per glyph
     std::vector<float> radii;
+    std::vector<double> tensors;  ///< 9 per glyph (rows), tensor ellipsoids only
     std::vector<unsigned char> colors;  ///< rgb + 1 per glyph of a mapped colour, 0 0 0 0 for the actor's colour
     vtkIdType skipped = 0;
+    vtkIdType rejected = 0;  ///< tensor ellipsoids left out at the last upload
     double bounds[6] = {1, -1, 1, -1, 1, -1};
     vtkTimeStamp built;
     vtkMTimeType uploaded_matrix = 0;  ///< MTime of the actor matrix and build the renderer holds
@@ -136,6 +138,7 @@ vtkQuadcastGlyphMapper::~vtkQuadcastGlyphMapper() {
     // A renderer left here belongs to a window already gone; its names die with that context.
     if (this->Internal->renderer) (void)this->Internal->renderer.release();
     if (this->Internal->api) (void)this->Internal->api.release();
+    this->SetTensorArray(nullptr);
 }
 
 void vtkQuadcastGlyphMapper::PrintSelf(ostream& os, vtkIndent indent) {
@@ -143,8 +146,8 @@ void vtkQuadcastGlyphMapper::PrintSelf(ostream& os, vtkIndent indent) {
     os << indent << "Glyphs: " << this->GetNumberOfGlyphs() << "\n" << indent << "SkippedPoints: " << this->GetSkippedPoints() << "\n";
 }
 
-vtkIdType vtkQuadcastGlyphMapper::GetNumberOfGlyphs() const { return static_cast<vtkIdType>(this->Internal->radii.size()); }
-vtkIdType vtkQuadcastGlyphMapper::GetSkippedPoints() const { return this->Internal->skipped; }
+vtkIdType vtkQuadcastGlyphMapper::GetNumberOfGlyphs() const { return static_cast<vtkIdType>(this->Internal->radii.size()) - this->Internal->rejected; }
+vtkIdType vtkQuadcastGlyphMapper::GetSkippedPoints() const { return this->Internal->skipped + this->Internal->rejected; }
 
 namespace {
 
@@ -162,6 +165,14 @@ double scale_value(vtkDataArray* a, vtkIdType i, int component) {
 }  // namespace
 
 namespace {
+
+/// Half the extent along axis k of a sphere of radius r, or of the ellipsoid of tensor t (rows)
+/// scaled by r, whose semi-axes are r times t's eigenvectors times their eigenvalues: for the
+/// ellipsoid x = r T u, |u| <= 1, that is r |row k of T|.
+double glyph_extent(double r, const double* t, int k) {
+    if (!t) return r;
+    return r * std::sqrt(t[3 * k] * t[3 * k] + t[3 * k + 1] * t[3 * k + 1] + t[3 * k + 2] * t[3 * k + 2]);
+}
 
 /// The polygonal blocks of a mapper input (one vtkPolyData, or a composite data set of them).
 std::vector<vtkPolyData*> polydata_blocks(vtkDataObject* input) {
@@ -185,6 +196,17 @@ vtkIdType vtkQuadcastGlyphMapper::ForEachGlyph(vtkDataObject* input, Block&& blo
         const vtkIdType n = pd->GetNumberOfPoints();
         if (n == 0) continue;
         vtkDataArray* scale = this->ScaleArray ? pd->GetPointData()->GetArray(this->ScaleArray) : nullptr;
+        vtkDataArray* tensors = nullptr;
+        if (this->GlyphType == TENSOR_ELLIPSOID) {
+            tensors = this->TensorArray ? pd->GetPointData()->GetArray(this->TensorArray) : nullptr;
+            if (!tensors || (tensors->GetNumberOfComponents() != 9 && tensors->GetNumberOfComponents() != 6)) {
+                vtkErrorMacro(<< "Quadric Glyphs: tensor ellipsoids need a point array of 9 or 6 (symmetric: xx yy zz xy yz xz) components as GlyphTensorArray; "
+                              << (this->TensorArray ? this->TensorArray : "(none)") << (tensors ? " has " + std::to_string(tensors->GetNumberOfComponents()) : std::string(" is not a point array"))
+                              << "; nothing drawn from this block");
+                skipped += n;
+                continue;
+            }
+        }
         block(pd);
         for (vtkIdType i = 0; i < n; ++i) {
             double r = this->ScaleFactor;
@@ -195,11 +217,24 @@ vtkIdType vtkQuadcastGlyphMapper::ForEachGlyph(vtkDataObject* input, Block&& blo
             }
             double p[3];
             pd->GetPoint(i, p);
-            if (!(r > 0) || !std::isfinite(r) || !(r < 3e38) || !std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) {
+            double t[9];
+            bool ok = r > 0 && std::isfinite(r) && r < 3e38 && std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]);
+            if (tensors) {
+                double v[9];
+                tensors->GetTuple(i, v);
+                if (tensors->GetNumberOfComponents() == 6) {  // (VTK's symmetric order: xx yy zz xy yz xz)
+                    const double full[9] = {v[0], v[3], v[5], v[3], v[1], v[4], v[5], v[4], v[2]};
+                    std::copy(full, full + 9, t);
+                } else {
+                    std::copy(v, v + 9, t);
+                }
+                for (double x : t) ok = ok && std::isfinite(x);
+            }
+            if (!ok) {
                 ++skipped;
                 continue;
             }
-            glyph(i, p, r);
+            glyph(i, p, r, tensors ? t : nullptr);
         }
     }
     return skipped;
@@ -208,10 +243,11 @@ vtkIdType vtkQuadcastGlyphMapper::ForEachGlyph(vtkDataObject* input, Block&& blo
 void vtkQuadcastGlyphMapper::ComputeGlyphBounds(vtkDataObject* input, double bounds[6]) {
     vtkMath::UninitializeBounds(bounds);
     bool any = false;
-    this->ForEachGlyph(input, [](vtkPolyData*) {}, [&](vtkIdType, const double p[3], double r) {
+    this->ForEachGlyph(input, [](vtkPolyData*) {}, [&](vtkIdType, const double p[3], double r, const double* t) {
         for (int k = 0; k < 3; ++k) {
-            bounds[2 * k] = any ? std::min(bounds[2 * k], p[k] - r) : p[k] - r;
-            bounds[2 * k + 1] = any ? std::max(bounds[2 * k + 1], p[k] + r) : p[k] + r;
+            const double e = glyph_extent(r, t, k);
+            bounds[2 * k] = any ? std::min(bounds[2 * k], p[k] - e) : p[k] - e;
+            bounds[2 * k + 1] = any ? std::max(bounds[2 * k + 1], p[k] + e) : p[k] + e;
         }
         any = true;
     });
@@ -226,6 +262,7 @@ double* vtkQuadcastGlyphMapper::GetBounds() {
     if (newest > in.built.GetMTime() || in.built.GetMTime() == 0) {
         in.centers.clear();
         in.radii.clear();
+        in.tensors.clear();
         in.colors.clear();
         vtkMath::UninitializeBounds(in.bounds);
         bool any = false;
@@ -239,9 +276,10 @@ double* vtkQuadcastGlyphMapper::GetBounds() {
                 if (mapped && (cell_flag != 0 || mapped->GetNumberOfTuples() != pd->GetNumberOfPoints())) mapped = nullptr;
                 comps = mapped ? mapped->GetNumberOfComponents() : 0;
             },
-            [&](vtkIdType i, const double p[3], double r) {
+            [&](vtkIdType i, const double p[3], double r, const double* t) {
                 for (int k = 0; k < 3; ++k) in.centers.push_back(static_cast<float>(p[k]));
                 in.radii.push_back(static_cast<float>(r));
+                if (t) in.tensors.insert(in.tensors.end(), t, t + 9);
                 if (mapped) {
                     const unsigned char* c = mapped->GetPointer(i * comps);  // (1 or 2 components: luminance)
                     in.colors.insert(in.colors.end(), {c[0], c[comps >= 3 ? 1 : 0], c[comps >= 3 ? 2 : 0], 1});
@@ -249,8 +287,9 @@ double* vtkQuadcastGlyphMapper::GetBounds() {
                     in.colors.insert(in.colors.end(), {0, 0, 0, 0});
                 }
                 for (int k = 0; k < 3; ++k) {
-                    in.bounds[2 * k] = any ? std::min(in.bounds[2 * k], p[k] - r) : p[k] - r;
-                    in.bounds[2 * k + 1] = any ? std::max(in.bounds[2 * k + 1], p[k] + r) : p[k] + r;
+                    const double e = glyph_extent(r, t, k);
+                    in.bounds[2 * k] = any ? std::min(in.bounds[2 * k], p[k] - e) : p[k] - e;
+                    in.bounds[2 * k + 1] = any ? std::max(in.bounds[2 * k + 1], p[k] + e) : p[k] + e;
                 }
                 any = true;
             });
@@ -313,6 +352,7 @@ void vtkQuadcastGlyphMapper::Render(vtkRenderer* ren, vtkActor* act) {
         prims.reserve(in.radii.size());
         namespace qs = quadcast::shapes;
         qs::Appearance look;
+        vtkIdType rejected = 0;
         try {
             for (std::size_t i = 0; i < in.radii.size(); ++i) {
                 double p[4] = {in.centers[3 * i], in.centers[3 * i + 1], in.centers[3 * i + 2], 1}, q[4];
@@ -320,10 +360,33 @@ void vtkQuadcastGlyphMapper::Render(vtkRenderer* ren, vtkActor* act) {
                 const unsigned char* c = &in.colors[4 * i];
                 look.color = c[3] ? glm::vec3(c[0] / 255.0f, c[1] / 255.0f, c[2] / 255.0f)
                                   : glm::vec3(static_cast<float>(diffuse[0]), static_cast<float>(diffuse[1]), static_cast<float>(diffuse[2]));
-                prims.push_back(qs::sphere(glm::vec3(static_cast<float>(q[0]), static_cast<float>(q[1]), static_cast<float>(q[2])),
-                                           static_cast<float>(static_cast<double>(in.radii[i]) * scale), look));
+                const glm::vec3 center(static_cast<float>(q[0]), static_cast<float>(q[1]), static_cast<float>(q[2]));
+                const float r = static_cast<float>(static_cast<double>(in.radii[i]) * scale);
+                if (in.tensors.empty()) {
+                    prims.push_back(qs::sphere(center, r, look));
+                    continue;
+                }
+                // The actor's rotation R turns the tensor into R T R^T (its scale is in r).
+                const double* t = &in.tensors[9 * i];
+                glm::mat3 rotated(0.0f);  // (glm: [column][row])
+                for (int a = 0; a < 3; ++a)
+                    for (int b = 0; b < 3; ++b) {
+                        double sum = 0;
+                        for (int c = 0; c < 3; ++c)
+                            for (int d = 0; d < 3; ++d) sum += m->GetElement(a, c) * t[3 * c + d] * m->GetElement(b, d);
+                        rotated[b][a] = static_cast<float>(sum / (scale * scale));
+                    }
+                try {
+                    prims.push_back(qs::tensor_ellipsoid(center, rotated, r, look));
+                } catch (const std::invalid_argument&) {
+                    ++rejected;  // (not positive definite, or too flat to bound)
+                }
             }
             in.renderer->set_primitives(prims);
+            in.rejected = rejected;
+            if (rejected > 0)
+                vtkWarningMacro(<< "Quadric Glyphs: " << rejected << " of " << in.radii.size()
+                                << " tensors are not positive definite (or too flat to draw): those points are not drawn");
         } catch (const std::exception& e) {
             vtkErrorMacro(<< "Quadric Glyphs: " << e.what());
             return;

@@ -18,7 +18,8 @@
 /// the mapper's scalar colouring (LookupTable, ColorMode, the selected point array) or the actor's
 /// diffuse colour. Light: one white light along the camera's direction of projection (a headlight),
 /// with quadcast's shading. The actor's matrix moves the spheres; it must scale uniformly.
-/// Not drawn: points with a radius that is not positive and finite (counted in SkippedPoints),
+/// Not drawn: points with a radius that is not positive and finite, tensors that are not positive
+/// definite (both counted in SkippedPoints),
 /// hardware selection passes (picking draws nothing).
 class QUADCASTREPRESENTATIONS_EXPORT vtkQuadcastGlyphMapper : public vtkPointGaussianMapper {
 public:
@@ -37,7 +38,18 @@ public:
     /// The bounds of the spheres of `input` (not the mapper's input: the representation's data
     /// before delivery), radii as for drawing; uninitialized when there are none.
     void ComputeGlyphBounds(vtkDataObject* input, double bounds[6]);
-    /// Spheres uploaded for the last render, and input points left out (radius not positive and finite).
+    /// What each point is drawn as: SPHERE (radius as above) or TENSOR_ELLIPSOID, the ellipsoid of
+    /// the point's symmetric tensor (TensorArray: 9 components, or 6 in VTK's symmetric order
+    /// xx yy zz xy yz xz) whose semi-axes are the eigenvectors times their eigenvalues times the
+    /// radius (as quadcast::shapes::tensor_ellipsoid and vtkTensorGlyph with eigenvalue scaling).
+    /// Tensors that are not positive definite are not drawn (a warning counts them).
+    enum GlyphTypes { SPHERE = 0, TENSOR_ELLIPSOID = 1 };
+    vtkSetClampMacro(GlyphType, int, SPHERE, TENSOR_ELLIPSOID);
+    vtkGetMacro(GlyphType, int);
+    vtkSetStringMacro(TensorArray);
+    vtkGetStringMacro(TensorArray);
+
+    /// Glyphs uploaded for the last render, and input points left out (radius not positive and finite).
     vtkIdType GetNumberOfGlyphs() const;
     vtkIdType GetSkippedPoints() const;
 
@@ -54,6 +66,8 @@ private:
     vtkIdType ForEachGlyph(vtkDataObject* input, Block&& block, Glyph&& glyph);
     struct Internals;
     std::unique_ptr<Internals> Internal;
+    int GlyphType = SPHERE;
+    char* TensorArray = nullptr;
 };
 
 #endif

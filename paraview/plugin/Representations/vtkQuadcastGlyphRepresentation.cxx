@@ -22,6 +22,12 @@ vtkQuadcastGlyphRepresentation::~vtkQuadcastGlyphRepresentation() = default;
 
 vtkQuadcastGlyphMapper* vtkQuadcastGlyphRepresentation::GetGlyphMapper() { return vtkQuadcastGlyphMapper::SafeDownCast(this->Mapper); }
 
+void vtkQuadcastGlyphRepresentation::SetGlyphType(int type) { this->GetGlyphMapper()->SetGlyphType(type); }
+
+void vtkQuadcastGlyphRepresentation::SelectTensorArray(int, int, int, int, const char* name) {
+    this->GetGlyphMapper()->SetTensorArray(name && name[0] ? name : nullptr);
+}
+
 void vtkQuadcastGlyphRepresentation::PrintSelf(ostream& os, vtkIndent indent) { this->Superclass::PrintSelf(os, indent); }
 
 int vtkQuadcastGlyphRepresentation::ProcessViewRequest(vtkInformationRequestKey* request_type, vtkInformation* inInfo, vtkInformation* outInfo) {

@@ -19,6 +19,11 @@ public:
     void PrintSelf(ostream& os, vtkIndent indent) override;
     /// The mapper (for tests and host code: glyph counts).
     vtkQuadcastGlyphMapper* GetGlyphMapper();
+    /// Spheres (0) or tensor ellipsoids (1) of the point array selected by SelectTensorArray
+    /// (vtkQuadcastGlyphMapper::SetGlyphType, SetTensorArray).
+    void SetGlyphType(int type);
+    /// The tensor array (the first four arguments are those of ParaView's array selection, unused).
+    void SelectTensorArray(int, int, int, int, const char* name);
     /// As the Point Gaussian representation's, but the geometry bounds given to the view (camera
     /// reset, clipping range) hold the spheres, not only their centres.
     int ProcessViewRequest(vtkInformationRequestKey* request_type, vtkInformation* inInfo, vtkInformation* outInfo) override;
