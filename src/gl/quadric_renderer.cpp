@@ -320,6 +320,11 @@ public:
         gl.BindVertexArray(0);
         gl.Finish();
         check_errors(gl, "QuadricRenderer::draw");
+        count_culled(opt);
+    }
+
+    /// `drawn_`, `frustum_culled_` and `occluded_` of the frame just drawn.
+    void count_culled(const render::RenderOptions& opt) {
         if (opt.occlusion_culling && count_ > 0) {
             const auto cmds = read_commands();
             drawn_ = earlier_phases_drawn_ + cmds[5 * render::variant_count];  // (phased drawing: and the phases before the last)
@@ -329,6 +334,21 @@ public:
             drawn_ = count_;
             frustum_culled_ = occluded_ = 0;
         }
+    }
+
+    /// The public `draw_primitives`: into the host's bound framebuffer, with the cull pass when
+    /// opt.occlusion_culling (its occluders are these primitives only; one phase).
+    void draw_into_bound(const render::Camera& cam, const render::Light& light, const render::RenderOptions& opt, bool deferred) {
+        const Api& gl = *api_;
+        cull_queries_used_ = 0;
+        cull_ms_ = 0.0;
+        gl.BindVertexArray(vao_);
+        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, ssbo_);  // (the cull pass reads the records before the draws bind them)
+        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, planes_);
+        draw_primitives(cam, light, opt, deferred, opt.occlusion_culling);
+        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, 0);
+        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, 0);
+        count_culled(opt);
     }
 
     std::size_t drawn_primitives() const { return drawn_; }
@@ -955,7 +975,7 @@ void QuadricRenderer::draw(const render::Camera& cam, const render::Light& light
     impl_->draw(cam, light, opt);
 }
 void QuadricRenderer::draw_primitives(const render::Camera& cam, const render::Light& light, const render::RenderOptions& opt, bool deferred) {
-    impl_->draw_primitives(cam, light, opt, deferred);
+    impl_->draw_into_bound(cam, light, opt, deferred);
 }
 render::Image QuadricRenderer::read() const { return impl_->read(); }
 std::size_t QuadricRenderer::primitive_count() const { return impl_->primitive_count(); }

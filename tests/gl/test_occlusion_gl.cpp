@@ -586,3 +586,84 @@ TEST_CASE("phased drawing of tetrahedral pieces culls what earlier phases hide a
             if (name == "orthographic") CHECK(drawn_three * 10 < drawn_one * 9);
         }
 }
+
+TEST_CASE("draw_primitives into a host application's framebuffer: the cull pass changes no pixel, and the picture is draw's") {
+    gl::OsmesaContext ctx;
+    const gl::Api& api = ctx.api();
+    gl::QuadricRenderer r(api);
+    const int w = 320, h = 240;
+    // The host's framebuffer: RGBA8 colour and a 32-bit float depth buffer of its own.
+    GLuint fbo = 0, color = 0, depth = 0;
+    api.CreateFramebuffers(1, &fbo);
+    api.CreateRenderbuffers(1, &color);
+    api.CreateRenderbuffers(1, &depth);
+    api.NamedRenderbufferStorage(color, GL_RGBA8, w, h);
+    api.NamedRenderbufferStorage(depth, GL_DEPTH_COMPONENT32F, w, h);
+    api.NamedFramebufferRenderbuffer(fbo, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, color);
+    api.NamedFramebufferRenderbuffer(fbo, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth);
+    REQUIRE(api.CheckNamedFramebufferStatus(fbo, GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE);
+    Light light;
+    light.direction = vec3(-0.4f, -0.6f, -1.0f);
+    // The host draws: its clears, viewport and depth test, then quadcast's primitives; read back
+    // top row first, as QuadricRenderer::read.
+    auto host_frame = [&](const Camera& cam, const RenderOptions& o) {
+        api.BindFramebuffer(GL_FRAMEBUFFER, fbo);
+        api.Viewport(0, 0, w, h);
+        const float bg[4] = {o.background[0], o.background[1], o.background[2], 1.0f}, one = 1.0f;
+        api.ClearBufferfv(GL_COLOR, 0, bg);
+        api.ClearBufferfv(GL_DEPTH, 0, &one);
+        api.Enable(GL_DEPTH_TEST);
+        api.DepthFunc(GL_LESS);
+        r.draw_primitives(cam, light, o, false);
+        Image img;
+        img.width = w;
+        img.height = h;
+        std::vector<std::uint8_t> rgba(std::size_t(w) * h * 4);
+        std::vector<float> z(std::size_t(w) * h);
+        api.PixelStorei(GL_PACK_ALIGNMENT, 1);
+        api.ReadPixels(0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
+        api.ReadPixels(0, 0, w, h, GL_DEPTH_COMPONENT, GL_FLOAT, z.data());
+        img.rgba.resize(rgba.size());
+        img.depth.resize(z.size());
+        for (int y = 0; y < h; ++y) {
+            std::copy_n(&rgba[std::size_t(h - 1 - y) * w * 4], std::size_t(w) * 4, &img.rgba[std::size_t(y) * w * 4]);
+            std::copy_n(&z[std::size_t(h - 1 - y) * w], std::size_t(w), &img.depth[std::size_t(y) * w]);
+        }
+        api.BindFramebuffer(GL_FRAMEBUFFER, 0);
+        return img;
+    };
+    for (const Case& s : occlusion_cases(w, h)) {
+        r.set_primitives(s.prims);
+        for (int mode = 0; mode < 2; ++mode) {
+            RenderOptions o;
+            o.width = w;
+            o.height = h;
+            o.culling = mode == 0;
+            o.occlusion_culling = true;
+            const Image culled = host_frame(s.camera, o);
+            const std::size_t drawn = r.drawn_primitives();
+            o.occlusion_culling = false;
+            const Image all = host_frame(s.camera, o);
+            CHECK(r.drawn_primitives() == s.prims.size());
+            r.draw(s.camera, light, o);  // (the renderer's own framebuffer)
+            const Image own = r.read();
+            const ImageDiff d = image_diff(culled, all), e = image_diff(all, own);
+            std::printf("[occlusion, host framebuffer] %s, culling %s: %ld covered px, %ld coverage / %ld colour / %ld depth differences with the pass off; "
+                        "against draw: %ld / %ld / %ld; %zu of %zu primitives drawn\n",
+                        s.name.c_str(), o.culling ? "on" : "off", d.covered, d.coverage_diff, d.color_diff, d.depth_diff, e.coverage_diff, e.color_diff,
+                        e.depth_diff, drawn, s.prims.size());
+            CAPTURE(s.name);
+            CHECK(d.covered > 300);
+            CHECK(d.coverage_diff == 0);
+            CHECK(d.color_diff == 0);
+            CHECK(d.depth_diff == 0);
+            CHECK(e.coverage_diff == 0);
+            CHECK(e.color_diff == 0);
+            CHECK(e.depth_diff == 0);
+            if (s.name == "dense block, perspective" || s.name == "dense block, orthographic") CHECK(drawn < s.prims.size() * 6 / 10);
+        }
+    }
+    api.DeleteFramebuffers(1, &fbo);
+    api.DeleteRenderbuffers(1, &color);
+    api.DeleteRenderbuffers(1, &depth);
+}

@@ -102,7 +102,13 @@ public:
     void draw(const render::Camera& cam, const render::Light& light, const render::RenderOptions& opt);
 
     /// Draws every variant's primitives with the forward or geometry-buffer programs into the
-    /// bound framebuffer, then the other passes (`add_pass`).
+    /// bound framebuffer (a host application's own: its viewport and depth test, the caller's
+    /// clears; the depth written is each surface's own window depth under `cam`), then the other
+    /// passes (`add_pass`). With opt.occlusion_culling the cull pass runs first, as in `draw`
+    /// (frustum culling and occlusion by these primitives' own occluders, in one phase; the same
+    /// picture), and `drawn_primitives`, `frustum_culled`, `occluded` count its outcome. Shadows,
+    /// outlines and the full-screen deferred shading are `draw`'s only. Leaves the GL state it
+    /// sets (program, vertex array, storage-buffer bindings, depth clamp off) for the caller to restore.
     void draw_primitives(const render::Camera& cam, const render::Light& light, const render::RenderOptions& opt, bool deferred);
 
     /// Reads back the last frame (rows top first, like the CPU renderer).
