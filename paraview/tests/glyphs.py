@@ -6,6 +6,10 @@
 # 6-component point array in VTK's symmetric order xx yy zz xy yz xz, eigenvalues 0.4 .. 1.6)
 # scaled by the same radius, whose semi-axes are the eigenvectors times their eigenvalues; the
 # reference intersects each pixel ray with the ellipsoid {c + r T u : |u| <= 1}.
+# --bonds: line cells too (each point to its nearest neighbour, and one polyline through 10
+# points), drawn with GlyphBondRadius as capped cylinders; the reference intersects each pixel
+# ray with the capped cylinders (side and end discs) and leaves out the pixels whose outcome
+# changes when the ray moves by 0.02 pixels (outlines).
 #
 # A scene of random spheres (radius from a point array times GlyphRadius, coloured through the
 # lookup table) cut by an opaque ParaView plane, drawn in a render view. Under MPI the points are
@@ -33,8 +37,9 @@ from paraview import servermanager
 import vtk
 from vtk.util import numpy_support
 
-argv = [a for a in sys.argv[1:] if a != "--tensors"]
+argv = [a for a in sys.argv[1:] if a not in ("--tensors", "--bonds")]
 tensor_mode = "--tensors" in sys.argv  # tensor ellipsoids instead of spheres
+bond_mode = "--bonds" in sys.argv  # line cells drawn as cylinders too
 plugin, out = argv[0], argv[1]
 reference = argv[2] if len(argv) > 2 else None
 LoadPlugin(plugin, remote=False, ns=globals())
@@ -67,6 +72,23 @@ for i in range(N):
     verts.InsertNextCell(1)
     verts.InsertCellPoint(i)
 poly.SetVerts(verts)
+BOND_RADIUS = 0.012
+bond_segments = []
+if bond_mode:
+    lines = vtk.vtkCellArray()
+    d2 = ((centers[:, None, :] - centers[None, :, :]) ** 2).sum(-1) + np.eye(N) * 1e9
+    pairs = sorted({(min(i, j), max(i, j)) for i, j in enumerate(d2.argmin(1))})
+    for i, j in pairs:
+        lines.InsertNextCell(2)
+        lines.InsertCellPoint(i)
+        lines.InsertCellPoint(j)
+        bond_segments.append((i, j))
+    lines.InsertNextCell(10)
+    for i in range(10):
+        lines.InsertCellPoint(i)
+        if i > 0:
+            bond_segments.append((i - 1, i))
+    poly.SetLines(lines)
 poly.GetPointData().AddArray(scale_array)
 poly.GetPointData().AddArray(value_array)
 if tensor_mode:
@@ -100,6 +122,8 @@ view.UseFXAA = 0  # (antialiasing would blend the colours of neighbouring pixels
 glyphs = Show(source, view)
 glyphs.SetRepresentationType("Quadric Glyphs")
 glyphs.GlyphRadius = GLYPH_RADIUS
+if bond_mode:
+    glyphs.GlyphBondRadius = BOND_RADIUS
 if tensor_mode:
     glyphs.QuadricGlyphType = "Tensor Ellipsoid"
     glyphs.GlyphTensorArray = ["POINTS", "tensor"]
@@ -182,6 +206,49 @@ for c, r, T in zip(centers, radii, tensors):
     dist_l = np.sqrt(np.maximum(cc + 1 - b * b / a, 0))
     d = np.linalg.norm(origin - c)
     rim |= np.abs(dist_l - 1) * r * np.linalg.eigvalsh(T).max() < 0.02 * pixel_angle * d
+def capped_cylinder_hits(o, dd, a, b, rho):
+    """Nearest t > 0 of each ray o + t dd (dd: H x W x 3) on the capped cylinder a-b of radius rho."""
+    L = np.linalg.norm(b - a)
+    u = (b - a) / L
+    w = o - a
+    du = dd @ u
+    wu = w @ u
+    dp = dd - du[..., None] * u
+    wp = w - wu * u
+    A = np.einsum("ijk,ijk->ij", dp, dp)
+    B = dp @ wp
+    C = wp @ wp - rho * rho
+    disc = B * B - A * C
+    best = np.full(dd.shape[:2], inf)
+    ok = (disc >= 0) & (A > 0)
+    sq = np.sqrt(np.where(ok, disc, 0))
+    for sign in (-1, 1):
+        t = np.where(ok, (-B + sign * sq) / np.where(A > 0, A, 1), inf)
+        ax = wu + t * du
+        good = ok & (t > 0) & (ax >= 0) & (ax <= L)
+        best = np.where(good, np.minimum(best, t), best)
+    for center, axial in ((a, 0.0), (b, L)):
+        t = np.where(np.abs(du) > 0, (axial - wu) / np.where(np.abs(du) > 0, du, 1), inf)
+        q = w + t[..., None] * dd - axial * u
+        rad2 = np.einsum("ijk,ijk->ij", q, q) - (q @ u) ** 2
+        good = (t > 0) & (rad2 <= rho * rho) & np.isfinite(t)
+        best = np.where(good, np.minimum(best, t), best)
+    return best
+
+if bond_mode:
+    # jittered rays: 0.02 px along x and y (the pixel's window offsets through the inverse projection)
+    def rays_at(dx, dy):
+        p = np.stack([X + dx * 2 / W, Y + dy * 2 / H, np.ones_like(X), np.ones_like(X)], axis=-1) @ Minv.T
+        p = p[..., :3] / p[..., 3:4] - origin
+        return p / np.linalg.norm(p, axis=-1, keepdims=True)
+    jitter = [rays_at(dx, dy) for dx, dy in ((0.02, 0), (-0.02, 0), (0, 0.02), (0, -0.02))]
+    for i, j in bond_segments:
+        a, b = centers[i], centers[j]
+        t = capped_cylinder_hits(origin, dirs, a, b, BOND_RADIUS)
+        t_sphere = np.minimum(t_sphere, t)
+        for jd in jitter:
+            rim |= np.isfinite(capped_cylinder_hits(origin, jd, a, b, BOND_RADIUS)) != np.isfinite(t)
+    print(f"glyphs: {len(bond_segments)} bonds (radius {BOND_RADIUS})")
 t_plane = np.where(np.abs(dirs[..., 2]) > 0, (PLANE_Z - origin[2]) / dirs[..., 2], inf)
 p = origin + dirs * np.where(np.isfinite(t_plane), t_plane, 0)[..., None]
 on_plane = np.isfinite(t_plane) & (t_plane > 0) & (p[..., 0] >= -0.3) & (p[..., 0] <= 1.3) & (p[..., 1] >= -0.3) & (p[..., 1] <= 1.3)

@@ -113,6 +113,9 @@ struct vtkQuadcastGlyphMapper::Internals {
     std::vector<float> centers;  ///< xyz per glyph
     std::vector<float> radii;
     std::vector<double> tensors;  ///< 9 per glyph (rows), tensor ellipsoids only
+    std::vector<float> bonds;  ///< p0 xyz, p1 xyz per bond (a segment of a line cell)
+    std::vector<unsigned char> bond_colors;  ///< the colours of p0 and p1, as `colors`
+    vtkIdType skipped_bonds = 0;  ///< segments of zero length or with a point that is not finite
     std::vector<unsigned char> colors;  ///< rgb + 1 per glyph of a mapped colour, 0 0 0 0 for the actor's colour
     vtkIdType skipped = 0;
     vtkIdType rejected = 0;  ///< tensor ellipsoids left out at the last upload
@@ -240,17 +243,46 @@ vtkIdType vtkQuadcastGlyphMapper::ForEachGlyph(vtkDataObject* input, Block&& blo
     return skipped;
 }
 
-void vtkQuadcastGlyphMapper::ComputeGlyphBounds(vtkDataObject* input, double bounds[6]) {
-    vtkMath::UninitializeBounds(bounds);
-    bool any = false;
-    this->ForEachGlyph(input, [](vtkPolyData*) {}, [&](vtkIdType, const double p[3], double r, const double* t) {
-        for (int k = 0; k < 3; ++k) {
-            const double e = glyph_extent(r, t, k);
-            bounds[2 * k] = any ? std::min(bounds[2 * k], p[k] - e) : p[k] - e;
-            bounds[2 * k + 1] = any ? std::max(bounds[2 * k + 1], p[k] + e) : p[k] + e;
+
+void vtkQuadcastGlyphMapper::AddBonds(vtkPolyData* pd, vtkUnsignedCharArray* mapped, bool& any) {
+    Internals& in = *this->Internal;
+    vtkCellArray* lines = pd->GetLines();
+    if (!lines || lines->GetNumberOfCells() == 0) return;
+    const int comps = mapped ? mapped->GetNumberOfComponents() : 0;
+    auto colour = [&](vtkIdType id) {
+        if (!mapped) {
+            in.bond_colors.insert(in.bond_colors.end(), {0, 0, 0, 0});
+            return;
         }
-        any = true;
-    });
+        const unsigned char* c = mapped->GetPointer(id * comps);
+        in.bond_colors.insert(in.bond_colors.end(), {c[0], c[comps >= 3 ? 1 : 0], c[comps >= 3 ? 2 : 0], 1});
+    };
+    const double r = this->BondRadius;
+    vtkIdType npts = 0;
+    const vtkIdType* ids = nullptr;
+    for (lines->InitTraversal(); lines->GetNextCell(npts, ids);) {
+        for (vtkIdType k = 0; k + 1 < npts; ++k) {
+            double a[3], b[3];
+            pd->GetPoint(ids[k], a);
+            pd->GetPoint(ids[k + 1], b);
+            bool ok = !(a[0] == b[0] && a[1] == b[1] && a[2] == b[2]);
+            for (int j = 0; j < 3; ++j) ok = ok && std::isfinite(a[j]) && std::isfinite(b[j]);
+            if (!ok) {
+                ++in.skipped_bonds;
+                continue;
+            }
+            for (double x : a) in.bonds.push_back(static_cast<float>(x));
+            for (double x : b) in.bonds.push_back(static_cast<float>(x));
+            colour(ids[k]);
+            colour(ids[k + 1]);
+            for (int j = 0; j < 3; ++j) {
+                const double lo = std::min(a[j], b[j]) - r, hi = std::max(a[j], b[j]) + r;
+                in.bounds[2 * j] = any ? std::min(in.bounds[2 * j], lo) : lo;
+                in.bounds[2 * j + 1] = any ? std::max(in.bounds[2 * j + 1], hi) : hi;
+            }
+            any = true;
+        }
+    }
 }
 
 double* vtkQuadcastGlyphMapper::GetBounds() {
@@ -264,6 +296,9 @@ double* vtkQuadcastGlyphMapper::GetBounds() {
         in.radii.clear();
         in.tensors.clear();
         in.colors.clear();
+        in.bonds.clear();
+        in.bond_colors.clear();
+        in.skipped_bonds = 0;
         vtkMath::UninitializeBounds(in.bounds);
         bool any = false;
         vtkUnsignedCharArray* mapped = nullptr;
@@ -275,6 +310,7 @@ double* vtkQuadcastGlyphMapper::GetBounds() {
                 mapped = this->ScalarVisibility ? this->MapScalars(pd, 1.0, cell_flag) : nullptr;
                 if (mapped && (cell_flag != 0 || mapped->GetNumberOfTuples() != pd->GetNumberOfPoints())) mapped = nullptr;
                 comps = mapped ? mapped->GetNumberOfComponents() : 0;
+                if (this->BondRadius > 0) this->AddBonds(pd, mapped, any);
             },
             [&](vtkIdType i, const double p[3], double r, const double* t) {
                 for (int k = 0; k < 3; ++k) in.centers.push_back(static_cast<float>(p[k]));
@@ -352,7 +388,7 @@ void vtkQuadcastGlyphMapper::Render(vtkRenderer* ren, vtkActor* act) {
         prims.reserve(in.radii.size());
         namespace qs = quadcast::shapes;
         qs::Appearance look;
-        vtkIdType rejected = 0;
+        vtkIdType rejected = 0, rejected_bonds = 0;
         try {
             for (std::size_t i = 0; i < in.radii.size(); ++i) {
                 double p[4] = {in.centers[3 * i], in.centers[3 * i + 1], in.centers[3 * i + 2], 1}, q[4];
@@ -382,8 +418,31 @@ void vtkQuadcastGlyphMapper::Render(vtkRenderer* ren, vtkActor* act) {
                     ++rejected;  // (not positive definite, or too flat to bound)
                 }
             }
+            // Bonds: two capped half-cylinders per segment, each coloured as its own end point.
+            const double bond_r = this->BondRadius * scale;
+            for (std::size_t i = 0; bond_r > 0 && i < in.bonds.size() / 6; ++i) {
+                glm::vec3 ends[2];
+                for (int e = 0; e < 2; ++e) {
+                    double p[4] = {in.bonds[6 * i + 3 * e], in.bonds[6 * i + 3 * e + 1], in.bonds[6 * i + 3 * e + 2], 1}, q[4];
+                    m->MultiplyPoint(p, q);
+                    ends[e] = glm::vec3(static_cast<float>(q[0]), static_cast<float>(q[1]), static_cast<float>(q[2]));
+                }
+                const glm::vec3 mid = 0.5f * (ends[0] + ends[1]);
+                for (int e = 0; e < 2; ++e) {
+                    const unsigned char* c = &in.bond_colors[8 * i + 4 * e];
+                    look.color = c[3] ? glm::vec3(c[0] / 255.0f, c[1] / 255.0f, c[2] / 255.0f)
+                                      : glm::vec3(static_cast<float>(diffuse[0]), static_cast<float>(diffuse[1]), static_cast<float>(diffuse[2]));
+                    try {
+                        prims.push_back(qs::cylinder(ends[e], mid, static_cast<float>(bond_r), qs::Ends::both, look));
+                    } catch (const std::invalid_argument&) {
+                        ++rejected_bonds;  // (a segment too short for float)
+                    }
+                }
+            }
             in.renderer->set_primitives(prims);
             in.rejected = rejected;
+            if (in.skipped_bonds + rejected_bonds > 0)
+                vtkWarningMacro(<< "Quadric Glyphs: " << in.skipped_bonds + rejected_bonds << " line segments of zero length (or with a point that is not finite) are not drawn");
             if (rejected > 0)
                 vtkWarningMacro(<< "Quadric Glyphs: " << rejected << " of " << in.radii.size()
                                 << " tensors are not positive definite (or too flat to draw): those points are not drawn");
@@ -415,7 +474,7 @@ void vtkQuadcastGlyphMapper::Render(vtkRenderer* ren, vtkActor* act) {
     quadcast::render::RenderOptions options;
     options.width = width;
     options.height = height;
-    options.occlusion_culling = false;
+    options.occlusion_culling = true;  // (frustum and occlusion culling among the glyphs; the same picture)
 
     const quadcast::gl::Api& gl = *in.api;
     SavedState saved(gl);

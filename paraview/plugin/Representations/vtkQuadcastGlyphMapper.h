@@ -21,6 +21,8 @@
 /// Not drawn: points with a radius that is not positive and finite, tensors that are not positive
 /// definite (both counted in SkippedPoints),
 /// hardware selection passes (picking draws nothing).
+class vtkPolyData;
+class vtkUnsignedCharArray;
 class QUADCASTREPRESENTATIONS_EXPORT vtkQuadcastGlyphMapper : public vtkPointGaussianMapper {
 public:
     static vtkQuadcastGlyphMapper* New();
@@ -35,9 +37,6 @@ public:
     bool HasTranslucentPolygonalGeometry() override { return false; }
     bool HasOpaqueGeometry() override { return true; }
 
-    /// The bounds of the spheres of `input` (not the mapper's input: the representation's data
-    /// before delivery), radii as for drawing; uninitialized when there are none.
-    void ComputeGlyphBounds(vtkDataObject* input, double bounds[6]);
     /// What each point is drawn as: SPHERE (radius as above) or TENSOR_ELLIPSOID, the ellipsoid of
     /// the point's symmetric tensor (TensorArray: 9 components, or 6 in VTK's symmetric order
     /// xx yy zz xy yz xz) whose semi-axes are the eigenvectors times their eigenvalues times the
@@ -48,6 +47,12 @@ public:
     vtkGetMacro(GlyphType, int);
     vtkSetStringMacro(TensorArray);
     vtkGetStringMacro(TensorArray);
+
+    /// Line cells of the input drawn as capped cylinders of this radius between their consecutive
+    /// points (bonds), each half coloured as its end point, moved and scaled with the spheres;
+    /// 0 (default): no cylinders.
+    vtkSetClampMacro(BondRadius, double, 0.0, 1e30);
+    vtkGetMacro(BondRadius, double);
 
     /// Glyphs uploaded for the last render, and input points left out (radius not positive and finite).
     vtkIdType GetNumberOfGlyphs() const;
@@ -66,7 +71,9 @@ private:
     vtkIdType ForEachGlyph(vtkDataObject* input, Block&& block, Glyph&& glyph);
     struct Internals;
     std::unique_ptr<Internals> Internal;
+    void AddBonds(vtkPolyData* pd, vtkUnsignedCharArray* mapped, bool& any);
     int GlyphType = SPHERE;
+    double BondRadius = 0;
     char* TensorArray = nullptr;
 };
 

@@ -2,11 +2,9 @@
 
 #include "vtkActor.h"
 #include "vtkDataObject.h"
-#include "vtkInformation.h"
-#include "vtkMath.h"
-#include "vtkMatrix4x4.h"
-#include "vtkNew.h"
-#include "vtkPVRenderView.h"
+#include "vtkInformationVector.h"
+#include "vtkMultiBlockDataSet.h"
+#include "vtkPolyData.h"
 #include "vtkObjectFactory.h"
 #include "vtkQuadcastGlyphMapper.h"
 
@@ -28,19 +26,18 @@ void vtkQuadcastGlyphRepresentation::SelectTensorArray(int, int, int, int, const
     this->GetGlyphMapper()->SetTensorArray(name && name[0] ? name : nullptr);
 }
 
+void vtkQuadcastGlyphRepresentation::SetBondRadius(double r) { this->GetGlyphMapper()->SetBondRadius(r); }
+
+int vtkQuadcastGlyphRepresentation::RequestData(vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector) {
+    const int result = this->Superclass::RequestData(request, inputVector, outputVector);
+    auto* input = vtkPolyData::SafeDownCast(vtkDataObject::GetData(inputVector[0], 0));
+    auto* blocks = vtkMultiBlockDataSet::SafeDownCast(this->ProcessedData);
+    if (input && input->GetNumberOfLines() > 0 && blocks && blocks->GetNumberOfBlocks() == 1) {
+        auto* points = vtkPolyData::SafeDownCast(blocks->GetBlock(0));
+        if (points && points->GetNumberOfPoints() == input->GetNumberOfPoints()) points->SetLines(input->GetLines());
+    }
+    return result;
+}
+
 void vtkQuadcastGlyphRepresentation::PrintSelf(ostream& os, vtkIndent indent) { this->Superclass::PrintSelf(os, indent); }
 
-int vtkQuadcastGlyphRepresentation::ProcessViewRequest(vtkInformationRequestKey* request_type, vtkInformation* inInfo, vtkInformation* outInfo) {
-    if (!this->Superclass::ProcessViewRequest(request_type, inInfo, outInfo)) return 0;
-    if (request_type == vtkPVView::REQUEST_UPDATE() && this->ProcessedData) {
-        // This rank's points' bounds grown by their radii (the view gathers the ranks').
-        double bounds[6];
-        this->GetGlyphMapper()->ComputeGlyphBounds(this->ProcessedData, bounds);
-        if (vtkMath::AreBoundsInitialized(bounds)) {
-            vtkNew<vtkMatrix4x4> matrix;
-            this->Actor->GetMatrix(matrix.GetPointer());
-            vtkPVRenderView::SetGeometryBounds(inInfo, this, bounds, matrix.GetPointer());
-        }
-    }
-    return 1;
-}

@@ -24,11 +24,13 @@ public:
     void SetGlyphType(int type);
     /// The tensor array (the first four arguments are those of ParaView's array selection, unused).
     void SelectTensorArray(int, int, int, int, const char* name);
-    /// As the Point Gaussian representation's, but the geometry bounds given to the view (camera
-    /// reset, clipping range) hold the spheres, not only their centres.
-    int ProcessViewRequest(vtkInformationRequestKey* request_type, vtkInformation* inInfo, vtkInformation* outInfo) override;
+    /// Line cells drawn as capped cylinders of this radius (vtkQuadcastGlyphMapper::SetBondRadius); 0: none.
+    void SetBondRadius(double r);
 
 protected:
+    /// The Point Gaussian representation's points, plus the line cells of a polygonal input (the
+    /// bonds): vtkMaskPoints there keeps every point in order, so the cells' point ids hold.
+    int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
     vtkQuadcastGlyphRepresentation();
     ~vtkQuadcastGlyphRepresentation() override;
 
