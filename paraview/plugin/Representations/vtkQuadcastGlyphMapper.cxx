@@ -107,7 +107,6 @@ struct vtkQuadcastGlyphMapper::Internals {
     vtkWindow* window = nullptr;
     std::unique_ptr<quadcast::gl::Api> api;
     std::unique_ptr<quadcast::gl::QuadricRenderer> renderer;
-    bool failed = false;  ///< the context could not be used (reported once)
 
     // Host side: the spheres of the last build, untransformed.
     std::vector<float> centers;  ///< xyz per glyph
@@ -128,7 +127,6 @@ struct vtkQuadcastGlyphMapper::Internals {
         renderer.reset();
         api.reset();
         window = nullptr;
-        failed = false;
     }
 };
 
@@ -341,7 +339,10 @@ void vtkQuadcastGlyphMapper::Render(vtkRenderer* ren, vtkActor* act) {
     vtkRenderWindow* win = ren->GetRenderWindow();
     this->GetBounds();  // (re)builds the spheres when the input, the colouring or the mapper changed
     if (in.window != win) {
-        if (in.window) this->ReleaseGraphicsResources(in.window);
+        // Another window (the old one's context is not current here): its GL objects are left to
+        // that context rather than deleted in this one, whose names they might share.
+        (void)in.renderer.release();
+        (void)in.api.release();
         in.window = win;
         try {
             const GetProc resolve = current_context_resolver();
@@ -351,7 +352,6 @@ void vtkQuadcastGlyphMapper::Render(vtkRenderer* ren, vtkActor* act) {
         } catch (const std::exception& e) {
             in.renderer.reset();
             in.api.reset();
-            in.failed = true;
             vtkErrorMacro(<< "Quadric Glyphs cannot draw in this render window: " << e.what());
         }
         in.upload_time = vtkTimeStamp();
