@@ -15,6 +15,7 @@
 #include <utility>
 #include <vector>
 
+#include "quadcast/gl/framebuffer.hpp"
 #include "quadcast/gl/osmesa_context.hpp"
 #include "quadcast/gl/quadric_renderer.hpp"
 #include "quadcast/render/cpu_renderer.hpp"
@@ -615,22 +616,8 @@ TEST_CASE("draw_primitives into a host application's framebuffer: the cull pass 
         api.Enable(GL_DEPTH_TEST);
         api.DepthFunc(GL_LESS);
         r.draw_primitives(cam, light, o, false);
-        Image img;
-        img.width = w;
-        img.height = h;
-        std::vector<std::uint8_t> rgba(std::size_t(w) * h * 4);
-        std::vector<float> z(std::size_t(w) * h);
-        api.PixelStorei(GL_PACK_ALIGNMENT, 1);
-        api.ReadPixels(0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
-        api.ReadPixels(0, 0, w, h, GL_DEPTH_COMPONENT, GL_FLOAT, z.data());
-        img.rgba.resize(rgba.size());
-        img.depth.resize(z.size());
-        for (int y = 0; y < h; ++y) {
-            std::copy_n(&rgba[std::size_t(h - 1 - y) * w * 4], std::size_t(w) * 4, &img.rgba[std::size_t(y) * w * 4]);
-            std::copy_n(&z[std::size_t(h - 1 - y) * w], std::size_t(w), &img.depth[std::size_t(y) * w]);
-        }
         api.BindFramebuffer(GL_FRAMEBUFFER, 0);
-        return img;
+        return gl::read_framebuffer(api, fbo, w, h);
     };
     for (const Case& s : occlusion_cases(w, h)) {
         r.set_primitives(s.prims);
