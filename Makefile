@@ -46,7 +46,7 @@ BENCH_PARAVIEW_COUNTS ?= 10000 100000 1000000
 BENCH_PARAVIEW_FRAMES ?= 5
 bench-paraview: build
 	@for n in $(BENCH_PARAVIEW_COUNTS); do for r in 1 2; do \
-	  xvfb-run -a -s "-screen 0 1280x1024x24" mpirun --allow-run-as-root --oversubscribe -np $$r pvbatch \
+	  /usr/bin/python3 tools/with_xvfb.py -- mpirun --allow-run-as-root --oversubscribe -np $$r pvbatch \
 	    paraview/bench/glyphs_bench.py $(BUILD)/lib/quadcast/paraview/Quadcast/Quadcast.so --count $$n --frames $(BENCH_PARAVIEW_FRAMES) || exit 1; \
 	done; done
 

@@ -220,15 +220,12 @@ def main():
     xvfb = None
     env = dict(os.environ)
     if not env.get("DISPLAY"):
-        rfd, wfd = os.pipe()  # Xvfb writes the number of the free display it took
-        xvfb = subprocess.Popen(["Xvfb", "-displayfd", str(wfd), "-screen", "0", "1280x1024x24", "-nolisten", "tcp"],
-                                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, pass_fds=(wfd,))
-        os.close(wfd)
-        with os.fdopen(rfd) as f:
-            display = f.readline().strip()
-        if not display:
-            raise SystemExit("bench_vtk.py: Xvfb did not start (apt-get install xvfb)")
-        env["DISPLAY"] = ":" + display
+        sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+        from with_xvfb import start_xvfb, stop_xvfb
+        try:
+            xvfb, env["DISPLAY"] = start_xvfb()
+        except RuntimeError as e:
+            raise SystemExit(f"bench_vtk.py: {e}")
     me = [sys.executable, os.path.abspath(__file__)]
     size = ["--width", str(args.width), "--height", str(args.height)]
     print(f"quadcast against VTK {vtk.vtkVersion.GetVTKVersion()}: {args.width}x{args.height}, 30 degree perspective from (0.5, 0.5, 3); "
@@ -276,7 +273,7 @@ def main():
                 max(qm), max(vm), 100 * covered_share(qpng), 100 * covered_share(vpng)), flush=True)
     finally:
         if xvfb:
-            xvfb.terminate()
+            stop_xvfb(xvfb)
     print(f"scenes and PNGs in {out}")
 
 
