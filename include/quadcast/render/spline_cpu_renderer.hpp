@@ -45,6 +45,19 @@
 
 namespace quadcast::render {
 
+/// The cubes (splines: cube (i,j,k) is centred on sample (i,j,k)) or cells (trilinear: cell
+/// (i,j,k) spans samples (i,j,k) to (i+1,j+1,k+1)) of a volume that are drawn: lo <= index <= hi
+/// per axis; by default all. A piece of a volume split over processes is prepared with a ghost
+/// layer (one sample around its own: the rest of its boundary cubes' stencils) and draws only the
+/// cubes it owns, so that the pieces' surfaces join exactly as the whole volume's surface does.
+struct IndexBox {
+    std::array<int, 3> lo{{0, 0, 0}};
+    std::array<int, 3> hi{{std::numeric_limits<int>::max(), std::numeric_limits<int>::max(), std::numeric_limits<int>::max()}};
+    bool contains(int i, int j, int k) const {
+        return lo[0] <= i && i <= hi[0] && lo[1] <= j && j <= hi[1] && lo[2] <= k && k <= hi[2];
+    }
+};
+
 /// A volume prepared for rendering one isosurface (host-only; build with `prepare_volume`).
 struct VolumeModel {
     VolumeScheme scheme = VolumeScheme::qss;
@@ -73,15 +86,19 @@ struct VolumeModel {
     std::vector<float> samples;
     std::vector<std::uint8_t> cell_active;
     std::size_t active = 0;  ///< active cubes / cells
+    IndexBox drawn;          ///< the cubes / cells drawn (`prepare_volume_piece`); the others are inactive
 
     int degree() const { return scheme == VolumeScheme::qss ? 2 : scheme == VolumeScheme::s31 ? 3 : 1; }
-    /// World bounding box of the reconstruction (splines reach half a voxel beyond the samples).
+    /// World bounding box of the drawn reconstruction (splines reach half a voxel beyond the
+    /// samples; `drawn` limits it).
     void world_box(Vec3<double>& lo, Vec3<double>& hi) const {
-        const double pad = scheme == VolumeScheme::trilinear ? 0.0 : 0.5;
+        const bool tri = scheme == VolumeScheme::trilinear;
         const int n[3] = {nx, ny, nz};
         for (int a = 0; a < 3; ++a) {
-            lo[a] = origin[a] + spacing[a] * (-pad);
-            hi[a] = origin[a] + spacing[a] * (n[a] - 1 + pad);
+            // Index range of the drawn cubes (cells), clamped to the volume's.
+            const double first = std::max(0, drawn.lo[a]), last = std::min(n[a] - (tri ? 2 : 1), drawn.hi[a]);
+            lo[a] = origin[a] + spacing[a] * (tri ? first : first - 0.5);
+            hi[a] = origin[a] + spacing[a] * (tri ? last + 1 : last + 0.5);
         }
     }
 };
@@ -145,6 +162,10 @@ void prepare_spline(VolumeModel& m, const spline::Volume<float>& vol, bool cpu, 
         for (int j = 0; j < vol.ny; ++j)
             for (int i = 0; i < vol.nx; ++i) {
                 const int c = i + vol.nx * (j + vol.ny * k);
+                if (!m.drawn.contains(i, j, k)) {  // (not drawn: an empty range, inactive)
+                    ranges[static_cast<std::size_t>(c)] = {std::numeric_limits<float>::infinity(), -std::numeric_limits<float>::infinity()};
+                    continue;
+                }
                 const spline::Stencil<float> f = spline::stencil(vol, i, j, k);
                 // Cheap test first: every coefficient lies within the stencil's data range widened
                 // by `negative_weight<Q>()` of its width (`data_bound`); most cubes end here.
@@ -208,6 +229,11 @@ inline void prepare_trilinear(VolumeModel& m, const spline::Volume<float>& vol) 
     for (int k = 0; k < cz; ++k)
         for (int j = 0; j < cy; ++j)
             for (int i = 0; i < cx; ++i) {
+                const std::size_t c = static_cast<std::size_t>(i) + static_cast<std::size_t>(cx) * (static_cast<std::size_t>(j) + static_cast<std::size_t>(cy) * k);
+                if (!m.drawn.contains(i, j, k)) {  // (not drawn: an empty range, inactive)
+                    ranges[c] = {std::numeric_limits<float>::infinity(), -std::numeric_limits<float>::infinity()};
+                    continue;
+                }
                 float lo = vol.at(i, j, k), hi = lo;
                 for (int c = 1; c < 8; ++c) {
                     const float v = vol.at(i + (c & 1), j + ((c >> 1) & 1), k + ((c >> 2) & 1));
@@ -215,7 +241,6 @@ inline void prepare_trilinear(VolumeModel& m, const spline::Volume<float>& vol) 
                     hi = std::max(hi, v);
                 }
                 const bool a = lo <= m.iso && m.iso <= hi;
-                const std::size_t c = static_cast<std::size_t>(i) + static_cast<std::size_t>(cx) * (static_cast<std::size_t>(j) + static_cast<std::size_t>(cy) * k);
                 m.cell_active[c] = a;
                 ranges[c] = {lo, hi};
                 n += a;
@@ -241,12 +266,13 @@ inline const std::array<Mat<float, 4, 3>, spline::tets_per_cube>& tet_dirs() {
 /// (clamp-to-edge padding), kept for the active cubes with, if `cpu_coefficients` (needed by
 /// `render_volumes_cpu`), their per-tetrahedron coefficients; trilinear by the active-cell
 /// flags. Both with the min-max octree. `progress` (optional) reports the fraction of the
-/// spline preparation done.
+/// spline preparation done. Only the cubes (cells) in `drawn` can be active: the others are
+/// left out of the octree and never drawn (their samples still serve their neighbours' stencils).
 /// Throws std::invalid_argument for a non-finite iso or non-positive spacing, or a trilinear
 /// volume with fewer than 2 samples along an axis.
-inline VolumeModel prepare_volume(const spline::Volume<float>& vol, const Vec3<double>& origin, const Vec3<double>& spacing,
-                                  VolumeScheme scheme, float iso, const Vec3<float>& color = {{0.8f, 0.8f, 0.8f}},
-                                  unsigned threads = 0, bool cpu_coefficients = true, const ProgressFn& progress = {}) {
+inline VolumeModel prepare_volume_piece(const spline::Volume<float>& vol, const Vec3<double>& origin, const Vec3<double>& spacing,
+                                        VolumeScheme scheme, float iso, const IndexBox& drawn, const Vec3<float>& color = {{0.8f, 0.8f, 0.8f}},
+                                        unsigned threads = 0, bool cpu_coefficients = true, const ProgressFn& progress = {}) {
     if (!std::isfinite(iso)) throw std::invalid_argument("quadcast::render::prepare_volume: isovalue is not finite");
     for (int a = 0; a < 3; ++a)
         if (!(spacing[a] > 0) || !std::isfinite(spacing[a]) || !std::isfinite(origin[a]))
@@ -260,6 +286,7 @@ inline VolumeModel prepare_volume(const spline::Volume<float>& vol, const Vec3<d
     m.nx = vol.nx;
     m.ny = vol.ny;
     m.nz = vol.nz;
+    m.drawn = drawn;
     if (scheme == VolumeScheme::qss) spline_cpu_detail::prepare_spline<2>(m, vol, cpu_coefficients, threads, progress);
     else if (scheme == VolumeScheme::s31) spline_cpu_detail::prepare_spline<3>(m, vol, cpu_coefficients, threads, progress);
     else {
@@ -268,6 +295,13 @@ inline VolumeModel prepare_volume(const spline::Volume<float>& vol, const Vec3<d
         spline_cpu_detail::prepare_trilinear(m, vol);
     }
     return m;
+}
+
+/// `prepare_volume_piece` drawing every cube (cell) of `vol`.
+inline VolumeModel prepare_volume(const spline::Volume<float>& vol, const Vec3<double>& origin, const Vec3<double>& spacing,
+                                  VolumeScheme scheme, float iso, const Vec3<float>& color = {{0.8f, 0.8f, 0.8f}},
+                                  unsigned threads = 0, bool cpu_coefficients = true, const ProgressFn& progress = {}) {
+    return prepare_volume_piece(vol, origin, spacing, scheme, iso, IndexBox{}, color, threads, cpu_coefficients, progress);
 }
 
 /// The first isosurface hit of a world ray.
