@@ -1,7 +1,5 @@
 #include "vtkQuadcastGlyphMapper.h"
 
-#include <dlfcn.h>
-
 #include <algorithm>
 #include <cmath>
 #include <exception>
@@ -26,87 +24,16 @@
 #include "vtkSmartPointer.h"
 #include "vtkUnsignedCharArray.h"
 
-// quadcast after VTK's headers; none of VTK's OpenGL headers is included here, so quadcast's
-// loader brings <GL/glcorearb.h> and the renderer draws through its own function table.
-#include <quadcast/camera.hpp>
-#include <quadcast/gl/loader.hpp>
+// quadcast after VTK's headers (see vtkQuadcastGLContext.h).
+#include "vtkQuadcastGLContext.h"
 #include <quadcast/gl/quadric_renderer.hpp>
 #include <quadcast/shapes.hpp>
 
-namespace {
-
-using GetProc = void* (*)(const char*);
-
-/// The current context's getProcAddress: GLX, EGL or OSMesa, whichever has a current context
-/// in this process (looked up at run time, so the plugin links none of them).
-GetProc current_context_resolver() {
-    struct Pair {
-        const char* current;
-        const char* resolve;
-    };
-    for (const Pair& p : {Pair{"glXGetCurrentContext", "glXGetProcAddressARB"}, Pair{"eglGetCurrentContext", "eglGetProcAddress"},
-                          Pair{"OSMesaGetCurrentContext", "OSMesaGetProcAddress"}}) {
-        auto current = reinterpret_cast<void* (*)()>(dlsym(RTLD_DEFAULT, p.current));
-        auto resolve = reinterpret_cast<GetProc>(dlsym(RTLD_DEFAULT, p.resolve));
-        if (current && resolve && current() != nullptr) return resolve;
-    }
-    return nullptr;
-}
-
-/// The GL state the host (VTK's state cache) relies on, saved before quadcast draws and put
-/// back after, so that VTK's cache stays true.
-class SavedState {
-public:
-    explicit SavedState(const quadcast::gl::Api& gl) : gl_(gl) {
-        gl.GetIntegerv(GL_CURRENT_PROGRAM, &program_);
-        gl.GetIntegerv(GL_VERTEX_ARRAY_BINDING, &vao_);
-        gl.GetIntegerv(GL_ARRAY_BUFFER_BINDING, &array_buffer_);
-        gl.GetIntegerv(GL_ACTIVE_TEXTURE, &active_texture_);
-        gl.GetIntegerv(GL_DEPTH_FUNC, &depth_func_);
-        GLboolean b[4];
-        gl.GetBooleanv(GL_DEPTH_WRITEMASK, b);
-        depth_mask_ = b[0];
-        gl.GetBooleanv(GL_COLOR_WRITEMASK, color_mask_);
-        for (std::size_t i = 0; i < std::size(caps_); ++i) enabled_[i] = gl.IsEnabled(caps_[i]);
-    }
-    ~SavedState() {
-        const quadcast::gl::Api& gl = gl_;
-        for (std::size_t i = 0; i < std::size(caps_); ++i) (enabled_[i] ? gl.Enable : gl.Disable)(caps_[i]);
-        gl.ColorMask(color_mask_[0], color_mask_[1], color_mask_[2], color_mask_[3]);
-        gl.DepthMask(depth_mask_);
-        gl.DepthFunc(static_cast<GLenum>(depth_func_));
-        gl.ActiveTexture(static_cast<GLenum>(active_texture_));
-        gl.BindVertexArray(static_cast<GLuint>(vao_));
-        gl.BindBuffer(GL_ARRAY_BUFFER, static_cast<GLuint>(array_buffer_));
-        gl.UseProgram(static_cast<GLuint>(program_));
-        for (GLuint i = 0; i < 8; ++i) gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, i, 0);
-    }
-    SavedState(const SavedState&) = delete;
-    SavedState& operator=(const SavedState&) = delete;
-
-private:
-    const quadcast::gl::Api& gl_;
-    static constexpr GLenum caps_[] = {GL_DEPTH_TEST, GL_BLEND, GL_CULL_FACE, GL_DEPTH_CLAMP, GL_SCISSOR_TEST, GL_POLYGON_OFFSET_FILL, GL_STENCIL_TEST};
-    GLboolean enabled_[std::size(caps_)] = {};
-    GLint program_ = 0, vao_ = 0, array_buffer_ = 0, active_texture_ = GL_TEXTURE0, depth_func_ = GL_LESS;
-    GLboolean depth_mask_ = GL_TRUE;
-    GLboolean color_mask_[4] = {GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE};
-};
-
-quadcast::Mat4<double> to_quadcast(const vtkMatrix4x4* m) {
-    quadcast::Mat4<double> r{};
-    for (int row = 0; row < 4; ++row)
-        for (int col = 0; col < 4; ++col) r[col][row] = m->GetElement(row, col);  // (columns first)
-    return r;
-}
-
-}  // namespace
+using quadcast_paraview::SavedState;
 
 struct vtkQuadcastGlyphMapper::Internals {
-    // GL side: one function table and renderer for the render window they were made in.
-    vtkWindow* window = nullptr;
-    std::unique_ptr<quadcast::gl::Api> api;
-    std::unique_ptr<quadcast::gl::QuadricRenderer> renderer;
+    // GL side: the renderer made in the render window last drawn in.
+    quadcast_paraview::WindowRenderer<quadcast::gl::QuadricRenderer> gl;
 
     // Host side: the spheres of the last build, untransformed.
     std::vector<float> centers;  ///< xyz per glyph
@@ -123,11 +50,6 @@ struct vtkQuadcastGlyphMapper::Internals {
     vtkMTimeType uploaded_matrix = 0;  ///< MTime of the actor matrix and build the renderer holds
     vtkTimeStamp upload_time;
 
-    void release() {
-        renderer.reset();
-        api.reset();
-        window = nullptr;
-    }
 };
 
 vtkStandardNewMacro(vtkQuadcastGlyphMapper);
@@ -135,10 +57,7 @@ vtkStandardNewMacro(vtkQuadcastGlyphMapper);
 vtkQuadcastGlyphMapper::vtkQuadcastGlyphMapper() : Internal(std::make_unique<Internals>()) {}
 
 vtkQuadcastGlyphMapper::~vtkQuadcastGlyphMapper() {
-    // GL objects need their context: ReleaseGraphicsResources frees them while it is current.
-    // A renderer left here belongs to a window already gone; its names die with that context.
-    if (this->Internal->renderer) (void)this->Internal->renderer.release();
-    if (this->Internal->api) (void)this->Internal->api.release();
+    // (GL objects are freed by ReleaseGraphicsResources while their context is current: see WindowRenderer.)
     this->SetTensorArray(nullptr);
 }
 
@@ -338,26 +257,15 @@ void vtkQuadcastGlyphMapper::Render(vtkRenderer* ren, vtkActor* act) {
     if (ren->GetSelector() != nullptr) return;  // (hardware selection: not drawn, see the header)
     vtkRenderWindow* win = ren->GetRenderWindow();
     this->GetBounds();  // (re)builds the spheres when the input, the colouring or the mapper changed
-    if (in.window != win) {
-        // Another window (the old one's context is not current here): its GL objects are left to
-        // that context rather than deleted in this one, whose names they might share.
-        (void)in.renderer.release();
-        (void)in.api.release();
-        in.window = win;
-        try {
-            const GetProc resolve = current_context_resolver();
-            if (!resolve) throw std::runtime_error("no current GLX, EGL or OSMesa context");
-            in.api = std::make_unique<quadcast::gl::Api>(quadcast::gl::Api::load(resolve));
-            in.renderer = std::make_unique<quadcast::gl::QuadricRenderer>(*in.api);
-        } catch (const std::exception& e) {
-            in.renderer.reset();
-            in.api.reset();
-            vtkErrorMacro(<< "Quadric Glyphs cannot draw in this render window: " << e.what());
-        }
+    bool fresh = false;
+    std::string error;
+    quadcast::gl::QuadricRenderer* renderer = in.gl.get(win, fresh, error);
+    if (!error.empty()) vtkErrorMacro(<< "Quadric Glyphs cannot draw in this render window: " << error);
+    if (!renderer) return;
+    if (fresh) {
         in.upload_time = vtkTimeStamp();
         in.uploaded_matrix = 0;
     }
-    if (!in.renderer) return;
 
     // The actor's matrix moves the spheres: it must be a similarity (rotation, translation, one scale).
     vtkMatrix4x4* m = act->GetMatrix();
@@ -439,7 +347,7 @@ void vtkQuadcastGlyphMapper::Render(vtkRenderer* ren, vtkActor* act) {
                     }
                 }
             }
-            in.renderer->set_primitives(prims);
+            renderer->set_primitives(prims);
             in.rejected = rejected;
             if (in.skipped_bonds + rejected_bonds > 0)
                 vtkWarningMacro(<< "Quadric Glyphs: " << in.skipped_bonds + rejected_bonds << " line segments of zero length (or with a point that is not finite) are not drawn");
@@ -454,39 +362,19 @@ void vtkQuadcastGlyphMapper::Render(vtkRenderer* ren, vtkActor* act) {
         in.uploaded_matrix = state;
     }
 
-    // The view's camera: VTK's view and projection matrices (row-major) for this viewport's aspect.
-    int width = 0, height = 0, x0 = 0, y0 = 0;
-    ren->GetTiledSizeAndOrigin(&width, &height, &x0, &y0);
-    if (width <= 0 || height <= 0) return;
-    vtkCamera* cam = ren->GetActiveCamera();
+    // The view's camera: VTK's view and projection matrices for this viewport's aspect.
     quadcast::render::Camera camera;
-    try {
-        camera = quadcast::camera_from_matrices(to_quadcast(cam->GetModelViewTransformMatrix()),
-                                                to_quadcast(cam->GetProjectionTransformMatrix(static_cast<double>(width) / height, -1, 1)));
-    } catch (const std::exception& e) {
-        vtkErrorMacro(<< "Quadric Glyphs: " << e.what());
+    quadcast::render::Light light;
+    quadcast::render::RenderOptions options;
+    if (!quadcast_paraview::view_camera(ren, camera, light, options, error)) {
+        if (!error.empty()) vtkErrorMacro(<< "Quadric Glyphs: " << error);
         return;
     }
-    quadcast::render::Light light;
-    double dop[3];
-    cam->GetDirectionOfProjection(dop);
-    light.direction = quadcast::Vec3<float>{{static_cast<float>(dop[0]), static_cast<float>(dop[1]), static_cast<float>(dop[2])}};
-    quadcast::render::RenderOptions options;
-    options.width = width;
-    options.height = height;
     options.occlusion_culling = true;  // (frustum and occlusion culling among the glyphs; the same picture)
 
-    const quadcast::gl::Api& gl = *in.api;
-    SavedState saved(gl);
-    gl.Enable(GL_DEPTH_TEST);
-    gl.DepthMask(GL_TRUE);
-    gl.DepthFunc(GL_LESS);
-    gl.Disable(GL_BLEND);
-    gl.Disable(GL_CULL_FACE);
-    gl.Disable(GL_POLYGON_OFFSET_FILL);
-    gl.Disable(GL_STENCIL_TEST);
+    SavedState saved(in.gl.api());
     try {
-        in.renderer->draw_primitives(camera, light, options, false);
+        renderer->draw_primitives(camera, light, options, false);
     } catch (const std::exception& e) {
         vtkErrorMacro(<< "Quadric Glyphs: " << e.what());
     }
@@ -495,6 +383,6 @@ void vtkQuadcastGlyphMapper::Render(vtkRenderer* ren, vtkActor* act) {
 void vtkQuadcastGlyphMapper::ReleaseGraphicsResources(vtkWindow* win) {
     Internals& in = *this->Internal;
     // VTK calls this with the window's context current (as for its own mappers' GL objects).
-    if (win && win == in.window) in.release();
+    in.gl.release(win);
     this->Superclass::ReleaseGraphicsResources(win);
 }
