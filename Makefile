@@ -41,13 +41,20 @@ bench-vtk: build bench-vtk-deps
 	/usr/bin/python3 tools/bench_vtk.py --quadcast $(BUILD)/tools/quadcast $(BENCH_VTK_ARGS)
 
 # The ParaView plugin's Quadric Glyphs against ParaView's Point Gaussian and 3D Glyphs
-# representations in pvbatch (paraview/bench/glyphs_bench.py), on 1 and on 2 MPI ranks, per count.
+# representations in pvbatch (paraview/bench/glyphs_bench.py), on 1 and on 2 MPI ranks, per count;
+# then its Spline Isosurface against the Contour filter (paraview/bench/isosurface_bench.py) per
+# Wavelet size.
 BENCH_PARAVIEW_COUNTS ?= 10000 100000 1000000
 BENCH_PARAVIEW_FRAMES ?= 5
+BENCH_PARAVIEW_ISO_SIZES ?= 128
 bench-paraview: build
 	@for n in $(BENCH_PARAVIEW_COUNTS); do for r in 1 2; do \
 	  /usr/bin/python3 tools/with_xvfb.py -- mpirun --allow-run-as-root --oversubscribe -np $$r pvbatch \
 	    paraview/bench/glyphs_bench.py $(BUILD)/lib/quadcast/paraview/Quadcast/Quadcast.so --count $$n --frames $(BENCH_PARAVIEW_FRAMES) || exit 1; \
+	done; done
+	@for n in $(BENCH_PARAVIEW_ISO_SIZES); do for r in 1 2; do \
+	  /usr/bin/python3 tools/with_xvfb.py -- mpirun --allow-run-as-root --oversubscribe -np $$r pvbatch \
+	    paraview/bench/isosurface_bench.py $(BUILD)/lib/quadcast/paraview/Quadcast/Quadcast.so --size $$n --frames $(BENCH_PARAVIEW_FRAMES) || exit 1; \
 	done; done
 
 demo-deps:
