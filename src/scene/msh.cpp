@@ -533,19 +533,21 @@ std::vector<Quadric> tetmesh_isosurface(const MshMesh& mesh, const TetmeshIso& w
             if (std::isnan(v[k]))
                 throw ParseError(at_elem(), "node " + std::to_string(mesh.node_tags[t.node[k]]) + " has no value in field \"" + field->name + "\"");
         }
+        // Checks on the corners about their centroid (as element_isosurface builds the quadric).
+        Vec3d p[4];
         BoundingTet<double> local{};
         Vec3d c{{0, 0, 0}};
-        for (int k = 0; k < 4; ++k) c = c + mesh.nodes[t.node[k]] * 0.25;
-        for (int k = 0; k < 4; ++k) local.p[k] = mesh.nodes[t.node[k]] - c;
+        for (int k = 0; k < 4; ++k) p[k] = mesh.nodes[t.node[k]];
+        for (int k = 0; k < 4; ++k) c = c + p[k] * 0.25;
+        for (int k = 0; k < 4; ++k) local.p[k] = p[k] - c;
         double longest = 0;
         for (int a = 0; a < 4; ++a)
             for (int b = a + 1; b < 4; ++b) longest = std::max(longest, length(local.p[a] - local.p[b]));
         const double vol6 = std::fabs(dot(local.p[1] - local.p[0], cross(local.p[2] - local.p[0], local.p[3] - local.p[0])));
         if (!(vol6 > 1e-12 * longest * longest * longest)) throw ParseError(at_elem(), "a flat tetrahedron (its corners are coplanar)");
-        bb::BezierTet<double, 2> b{};
         const double corner[4] = {v[0], v[1], v[2], v[3]};
+        double mid[6];
         if (t.nodes == 10) {
-            double mid[6];
             for (int e = 0; e < 6; ++e) {
                 const int i = bb::quadratic_edges[e][0], j = bb::quadratic_edges[e][1];
                 const int node = gmsh_edge_node[e];
@@ -558,21 +560,12 @@ std::vector<Quadric> tetmesh_isosurface(const MshMesh& mesh, const TetmeshIso& w
                                                   "(mesh with Gmsh's Mesh.SecondOrderLinear = 1)");
                 mid[e] = v[node];
             }
-            b = bb::bezier_from_quadratic_nodes(corner, mid);
-        } else {
-            b = bb::bezier_from_linear_nodes(corner);
         }
-        // The BB coefficients bound the piece (convex hull): no surface when all are on one side.
-        double bmin = HUGE_VAL, bmax = -HUGE_VAL;
-        for (int n = 0; n < b.size; ++n) {
-            lo = std::min(lo, b[n]);
-            hi = std::max(hi, b[n]);
-            b[n] -= what.iso;
-            bmin = std::min(bmin, b[n]);
-            bmax = std::max(bmax, b[n]);
-        }
-        if (bmin > 0 || bmax < 0 || (bmin == 0 && bmax == 0)) continue;
-        const quadcast::Quadric<double> q = translate_to_eye(bb::quadric_from_bezier(b, local), -c);
+        const bb::ElementIsosurface<double> e = bb::element_isosurface(p, corner, t.nodes == 10 ? mid : nullptr, what.iso);
+        lo = std::min(lo, e.lo);
+        hi = std::max(hi, e.hi);
+        if (!e.crosses) continue;
+        const quadcast::Quadric<double>& q = e.q;
         Quadric s{};
         s.q = q.q;
         s.bound = Quadric::Bound::tetrahedron;

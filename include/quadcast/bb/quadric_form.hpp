@@ -79,6 +79,53 @@ Quadric<T> quadric_from_bezier(const BezierTet<T, 2>& b, const BoundingTet<T>& t
     return q;
 }
 
+/// The isosurface f = iso of one straight-sided Lagrange tetrahedron (`element_isosurface`).
+template <class T>
+struct ElementIsosurface {
+    Quadric<T> q;           ///< f - iso as a quadric in world coordinates (meaningful when `crosses`)
+    T lo = T(0), hi = T(0);  ///< the range of f's BB coefficients (it contains f on the element)
+    bool crosses = false;   ///< the coefficients of f - iso are not all of one sign, nor all 0
+};
+
+/// The isosurface f = iso of the 4-node (`mid` null: linear) or 10-node (`mid`: the six edge
+/// midpoint values in `quadratic_edges` order) Lagrange tetrahedron with corners `p` and corner
+/// values `corner`, as a quadric to clip to the tetrahedron: the BB form of f
+/// (`bezier_from_quadratic_nodes` / `bezier_from_linear_nodes`) minus iso, as a quadric
+/// (`quadric_from_bezier`) in coordinates about the corners' centroid c, moved back to world
+/// coordinates (`translate_to_eye` by -c). `crosses` is false when the BB coefficients of
+/// f - iso all have one sign (by the convex hull property, no surface) or are all 0. The
+/// element's edge nodes must lie at the midpoints (the caller checks: curved elements are not
+/// quadrics).
+/// Numerics: c = (p0 + p1 + p2 + p3) * 0.25 (left fold of p_k * 0.25); the rest as the named functions.
+template <class T>
+ElementIsosurface<T> element_isosurface(const Vec3<T> (&p)[4], const T (&corner)[4], const T* mid, const T& iso) {
+    BoundingTet<T> local{};
+    Vec3<T> c{{T(0), T(0), T(0)}};
+    for (int k = 0; k < 4; ++k) c = c + p[k] * T(0.25);
+    for (int k = 0; k < 4; ++k) local.p[k] = p[k] - c;
+    BezierTet<T, 2> b{};
+    if (mid) {
+        const T m[6] = {mid[0], mid[1], mid[2], mid[3], mid[4], mid[5]};
+        b = bezier_from_quadratic_nodes(corner, m);
+    } else {
+        b = bezier_from_linear_nodes(corner);
+    }
+    ElementIsosurface<T> r{};
+    r.lo = b[0];
+    r.hi = b[0];
+    T bmin = b[0] - iso, bmax = bmin;
+    for (int n = 0; n < b.size; ++n) {
+        r.lo = std::min(r.lo, b[n]);
+        r.hi = std::max(r.hi, b[n]);
+        b[n] = b[n] - iso;
+        bmin = std::min(bmin, b[n]);
+        bmax = std::max(bmax, b[n]);
+    }
+    r.crosses = !(bmin > T(0) || bmax < T(0) || (bmin == T(0) && bmax == T(0)));
+    if (r.crosses) r.q = translate_to_eye(quadric_from_bezier(b, local), Vec3<T>{{-c[0], -c[1], -c[2]}});
+    return r;
+}
+
 /// The BB coefficient c_{e_i+e_j} of a quadric restricted to a tetrahedron with corners p_i, p_j:
 /// its blossom (p_i, 1)^T Q (p_j, 1) (c_{2e_i} = f(p_i)).
 /// Numerics: dot((a, 1), Q (b, 1)) with linalg's left folds.
