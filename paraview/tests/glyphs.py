@@ -29,6 +29,7 @@
 # With REFERENCE_PREFIX (the 1-rank run's OUT_PREFIX) the image must also equal that run's:
 # identical coverage, colours within 1 level.
 # Writes OUT_PREFIX.png and OUT_PREFIX_rgb.npy. Exit status 1 on any failure (a RuntimeError).
+import os
 import sys
 
 import numpy as np
@@ -36,6 +37,9 @@ from paraview.simple import *  # noqa: F401,F403
 from paraview import servermanager
 import vtk
 from vtk.util import numpy_support
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import pvcheck  # noqa: E402
 
 argv = [a for a in sys.argv[1:] if a not in ("--tensors", "--bonds")]
 tensor_mode = "--tensors" in sys.argv  # tensor ellipsoids instead of spheres
@@ -103,22 +107,9 @@ writer.Write()
 
 source = XMLPolyDataReader(FileName=[out + "_points.vtp"])
 ranks = servermanager.ActiveConnection.GetNumberOfDataPartitions()
-if ranks > 1:
-    source = RedistributeDataSet(Input=source)
-    ids = ProcessIdScalars(Input=source)
-    ids.UpdatePipeline()
-    lo, hi = ids.PointData["ProcessId"].GetRange()
-    print(f"glyphs: {ranks} ranks, points on ranks {lo:.0f}..{hi:.0f}")
-    if hi < 1:
-        print("FAIL: the points were not distributed over the ranks")
-        sys.exit(1)
+source = pvcheck.distribute(source, ranks, "glyphs", "points")
 
-view = CreateView("RenderView")
-view.ViewSize = [W, H]
-view.OrientationAxesVisibility = 0
-view.Background = [1, 0, 1]  # (magenta: no shaded sphere or plane colour is)
-view.UseColorPaletteForBackground = 0
-view.UseFXAA = 0  # (antialiasing would blend the colours of neighbouring pixels)
+view = pvcheck.make_view(W, H)
 glyphs = Show(source, view)
 glyphs.SetRepresentationType("Quadric Glyphs")
 glyphs.GlyphRadius = GLYPH_RADIUS
@@ -131,58 +122,19 @@ glyphs.GlyphScaleByArray = 1
 glyphs.GlyphScaleArray = ["POINTS", "scale"]
 ColorBy(glyphs, ("POINTS", "value"))
 plane = Plane(Origin=[-0.3, -0.3, PLANE_Z], Point1=[1.3, -0.3, PLANE_Z], Point2=[-0.3, 1.3, PLANE_Z])
-plane_display = Show(plane, view)
-plane_display.DiffuseColor = [0, 1, 0]
-plane_display.AmbientColor = [0, 1, 0]
-plane_display.ColorArrayName = ["POINTS", ""]
-Render(view)  # (the first render resets the camera to the data; the view is set after it)
-camera = view.GetActiveCamera()
-camera.SetPosition(0.5 + 1.4, 0.5 - 1.1, 0.5 + 2.0)
-camera.SetFocalPoint(0.5, 0.5, 0.45)
-camera.SetViewUp(0, 0, 1)
-camera.SetViewAngle(30)
-view.CameraParallelProjection = 0
-Render(view)
+pvcheck.show_green(plane, view)
+camera = pvcheck.look_from(view, (0.5 + 1.4, 0.5 - 1.1, 0.5 + 2.0), (0.5, 0.5, 0.45))
 # The depth buffer on one rank (IceT composites colours into the screenshot; the window's own
 # depth buffer holds the composited depths only when there is one rank).
-depth = None
-if ranks == 1:
-    window = view.GetRenderWindow()
-    zbuf = vtk.vtkFloatArray()
-    window.GetZbufferData(0, 0, W - 1, H - 1, zbuf)
-    depth = numpy_support.vtk_to_numpy(zbuf).reshape(H, W).astype(np.float64)
-
-SaveScreenshot(out + ".png", view, ImageResolution=[W, H])
-
-# The composited colour image (the screenshot: IceT's under MPI), rows bottom first.
-png = vtk.vtkPNGReader()
-png.SetFileName(out + ".png")
-png.Update()
-image = png.GetOutput()
-rgb = numpy_support.vtk_to_numpy(image.GetPointData().GetScalars()).reshape(H, W, -1)[:, :, :3].astype(np.int32)
-covered = ~((rgb[..., 0] == 255) & (rgb[..., 1] == 0) & (rgb[..., 2] == 255))
-np.save(out + "_rgb.npy", rgb)
+depth = pvcheck.depth_buffer(view, W, H) if ranks == 1 else None
+rgb, covered = pvcheck.screenshot(view, out, W, H)
 # The exact scene along each pixel ray, from the camera's own matrices.
-renderer = view.GetRenderer()
-aspect = W / H
-m = camera.GetCompositeProjectionTransformMatrix(aspect, -1, 1)
-M = np.array([[m.GetElement(r, c) for c in range(4)] for r in range(4)])
-Minv = np.linalg.inv(M)
-xs = (np.arange(W) + 0.5) / W * 2 - 1
-ys = (np.arange(H) + 0.5) / H * 2 - 1
-X, Y = np.meshgrid(xs, ys)
-def unproject(z):
-    p = np.stack([X, Y, np.full_like(X, z), np.ones_like(X)], axis=-1) @ Minv.T
-    return p[..., :3] / p[..., 3:4]
-near_pts, far_pts = unproject(-1.0), unproject(1.0)
-origin = np.array(camera.GetPosition())
-dirs = far_pts - origin
-dirs /= np.linalg.norm(dirs, axis=-1, keepdims=True)
+cam = pvcheck.CameraRays(camera, W, H)
+origin = cam.eye
+dirs = cam.directions()
 
 def window_depth(t):
-    p = origin + dirs * t[..., None]
-    h = np.concatenate([p, np.ones(p.shape[:-1] + (1,))], axis=-1) @ M.T
-    return (h[..., 2] / h[..., 3] + 1) / 2
+    return cam.window_depth(dirs, t)
 
 inf = np.inf
 t_sphere = np.full((H, W), inf)
@@ -237,11 +189,7 @@ def capped_cylinder_hits(o, dd, a, b, rho):
 
 if bond_mode:
     # jittered rays: 0.02 px along x and y (the pixel's window offsets through the inverse projection)
-    def rays_at(dx, dy):
-        p = np.stack([X + dx * 2 / W, Y + dy * 2 / H, np.ones_like(X), np.ones_like(X)], axis=-1) @ Minv.T
-        p = p[..., :3] / p[..., 3:4] - origin
-        return p / np.linalg.norm(p, axis=-1, keepdims=True)
-    jitter = [rays_at(dx, dy) for dx, dy in ((0.02, 0), (-0.02, 0), (0, 0.02), (0, -0.02))]
+    jitter = [cam.directions(dx, dy) for dx, dy in ((0.02, 0), (-0.02, 0), (0, 0.02), (0, -0.02))]
     for i, j in bond_segments:
         a, b = centers[i], centers[j]
         t = capped_cylinder_hits(origin, dirs, a, b, BOND_RADIUS)
@@ -264,7 +212,7 @@ sphere_front = (z_sphere < z_plane) & np.isfinite(t_sphere)
 plane_front = (z_plane < z_sphere) & np.isfinite(t_plane)
 tie = np.abs(z_sphere - z_plane) < 1e-5
 checked = sphere_front & ~rim & ~tie & covered
-plane_colour = rgb[..., 1] - np.maximum(rgb[..., 0], rgb[..., 2]) > 100  # (no colour of the lookup table is)
+plane_colour = pvcheck.plane_coloured(rgb)
 print(f"glyphs: {W}x{H}, {N} spheres; covered {covered.sum()} px (exact {exact_covered.sum()}), "
       f"sphere in front {sphere_front.sum()}, plane in front {plane_front.sum()}, outline px {rim.sum()}")
 print(f"glyphs: coverage differences away from outlines {coverage_diff.sum()}")
@@ -301,13 +249,8 @@ if not (sphere_rgb[:, 2].max() - sphere_rgb[:, 0].min() > 100 and sphere_rgb[:, 
     failures.append("the spheres are not coloured through the lookup table")
 
 if reference:
-    ref_rgb = np.load(reference + "_rgb.npy")
-    ref_covered = ~((ref_rgb[..., 0] == 255) & (ref_rgb[..., 1] == 0) & (ref_rgb[..., 2] == 255))
-    cov = ref_covered != covered
-    both = ref_covered & covered
-    dc = np.abs(ref_rgb - rgb)[both].max() if both.any() else 0
-    print(f"glyphs: against {reference}: coverage differences {cov.sum()}, colour max difference {dc}")
-    if cov.any() or dc > 1:
+    cov, dc, _ = pvcheck.compare_with_reference(reference, rgb, covered, "glyphs")
+    if cov or dc > 1:
         failures.append("the image differs from the reference run's")
 
 for f in failures:

@@ -26,6 +26,7 @@
 # --no-ghosts (the representation asks for no ghost level) the image must differ from that run's:
 # the seam the test is there to find shows (a check that the comparison can fail).
 # Writes OUT_PREFIX.png, OUT_PREFIX_rgb.npy and (one rank) OUT_PREFIX_depth.npy. Exit status 1 on any failure (a RuntimeError).
+import os
 import sys
 
 import numpy as np
@@ -33,6 +34,9 @@ from paraview.simple import *  # noqa: F401,F403
 from paraview import servermanager
 import vtk
 from vtk.util import numpy_support
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import pvcheck  # noqa: E402
 
 args = sys.argv[1:]
 scheme = "qss"
@@ -62,12 +66,7 @@ if ranks > 1:
     if hi < 1:
         raise RuntimeError("the image was not split over the ranks")
 
-view = CreateView("RenderView")
-view.ViewSize = [W, H]
-view.OrientationAxesVisibility = 0
-view.Background = [1, 0, 1]  # (magenta: no shaded surface or plane colour is)
-view.UseColorPaletteForBackground = 0
-view.UseFXAA = 0
+view = pvcheck.make_view(W, H)
 surface = Show(wavelet, view)
 surface.SetRepresentationType("Spline Isosurface")
 surface.SplineArray = ["POINTS", "RTData"]
@@ -77,33 +76,14 @@ surface.SplineGhostLevels = 0 if no_ghosts else 1
 surface.Scale = [1, 1, ZSCALE]
 surface.DiffuseColor = [0.9, 0.8, 0.6]
 plane = Plane(Origin=[-20, PLANE_Y, -30], Point1=[20, PLANE_Y, -30], Point2=[-20, PLANE_Y, 30])
-plane_display = Show(plane, view)
-plane_display.DiffuseColor = [0, 1, 0]
-plane_display.AmbientColor = [0, 1, 0]
-plane_display.ColorArrayName = ["POINTS", ""]
-Render(view)
-camera = view.GetActiveCamera()
-camera.SetPosition(52, -64, 40)
-camera.SetFocalPoint(0, 0, 0)
-camera.SetViewUp(0, 0, 1)
-camera.SetViewAngle(30)
-view.CameraParallelProjection = 0
-Render(view)
+pvcheck.show_green(plane, view)
+camera = pvcheck.look_from(view, (52, -64, 40), (0, 0, 0))
 depth = None
 if ranks == 1:
-    window = view.GetRenderWindow()
-    zbuf = vtk.vtkFloatArray()
-    window.GetZbufferData(0, 0, W - 1, H - 1, zbuf)
-    depth = numpy_support.vtk_to_numpy(zbuf).reshape(H, W).astype(np.float64)
+    depth = pvcheck.depth_buffer(view, W, H)
     np.save(out + "_depth.npy", depth)
-SaveScreenshot(out + ".png", view, ImageResolution=[W, H])
-png = vtk.vtkPNGReader()
-png.SetFileName(out + ".png")
-png.Update()
-rgb = numpy_support.vtk_to_numpy(png.GetOutput().GetPointData().GetScalars()).reshape(H, W, -1)[:, :, :3].astype(np.int32)
-covered = ~((rgb[..., 0] == 255) & (rgb[..., 1] == 0) & (rgb[..., 2] == 255))
-np.save(out + "_rgb.npy", rgb)
-plane_colour = rgb[..., 1] - np.maximum(rgb[..., 0], rgb[..., 2]) > 100
+rgb, covered = pvcheck.screenshot(view, out, W, H)
+plane_colour = pvcheck.plane_coloured(rgb)
 failures = []
 
 if ranks == 1:
@@ -113,18 +93,9 @@ if ranks == 1:
     src.Update()
     n = 2 * EXT + 1
     f = numpy_support.vtk_to_numpy(src.GetOutput().GetPointData().GetArray("RTData")).astype(np.float64).reshape(n, n, n)  # [k, j, i]
-    m = camera.GetCompositeProjectionTransformMatrix(W / H, -1, 1)
-    M = np.array([[m.GetElement(r, c) for c in range(4)] for r in range(4)])
-    Minv = np.linalg.inv(M)
-    eye = np.array(camera.GetPosition())
-
-    def rays(dx=0.0, dy=0.0):
-        xs = (np.arange(W) + 0.5 + dx) / W * 2 - 1
-        ys = (np.arange(H) + 0.5 + dy) / H * 2 - 1
-        X, Y = np.meshgrid(xs, ys)
-        p = np.stack([X, Y, np.ones_like(X), np.ones_like(X)], axis=-1) @ Minv.T
-        d = p[..., :3] / p[..., 3:4] - eye
-        return d / np.linalg.norm(d, axis=-1, keepdims=True)
+    cam = pvcheck.CameraRays(camera, W, H)
+    eye = cam.eye
+    rays = cam.directions
 
     scale = np.array([1.0, 1.0, ZSCALE])
 
@@ -205,9 +176,7 @@ if ranks == 1:
         rim |= np.isfinite(trilinear_hits(rays(dx, dy))) != np.isfinite(t_iso)
 
     def window_depth(t):
-        p = eye + dirs * np.where(np.isfinite(t), t, 1)[..., None]
-        h = np.concatenate([p, np.ones(p.shape[:-1] + (1,))], axis=-1) @ M.T
-        return np.where(np.isfinite(t), (h[..., 2] / h[..., 3] + 1) / 2, 1.0)
+        return cam.window_depth(dirs, t)
 
     def plane_hits(d):
         with np.errstate(divide="ignore", invalid="ignore"):
@@ -230,9 +199,7 @@ if ranks == 1:
         failures.append("the scene does not show both the surface and the plane")
     # Where the drawn surface is: the depth buffer's window depth turned back into a point and a
     # distance from the eye.
-    X, Y = np.meshgrid((np.arange(W) + 0.5) / W * 2 - 1, (np.arange(H) + 0.5) / H * 2 - 1)
-    ph = np.stack([X, Y, 2 * depth - 1, np.ones_like(X)], axis=-1) @ Minv.T
-    p_drawn = ph[..., :3] / ph[..., 3:4]
+    p_drawn = cam.points(depth)
     t_drawn = np.linalg.norm(p_drawn - eye, axis=-1)
     drawn_iso = covered & ~plane_colour & (depth < 1)
     if scheme == "trilinear":
@@ -288,18 +255,11 @@ if ranks == 1:
             failures.append(f"{differ.sum()} pixels hit by only one of the {scheme} and trilinear surfaces")
 
 if reference:
-    ref_rgb = np.load(reference + "_rgb.npy")
-    ref_covered = ~((ref_rgb[..., 0] == 255) & (ref_rgb[..., 1] == 0) & (ref_rgb[..., 2] == 255))
-    cov = ref_covered != covered
-    both = ref_covered & covered
-    diff = np.abs(ref_rgb - rgb).max(axis=-1)
-    dc = diff[both].max() if both.any() else 0
-    print(f"isosurface: against {reference}: coverage differences {cov.sum()}, colour max difference {dc}, "
-          f"pixels differing by more than 1 level {(diff[both] > 1).sum()}")
+    cov, dc, diff = pvcheck.compare_with_reference(reference, rgb, covered, "isosurface")
     if no_ghosts:
-        if cov.sum() + (diff[both] > 8).sum() < 20:
+        if cov + (diff > 8).sum() < 20:
             failures.append("without ghost levels the split image still equals the whole one: the comparison cannot see a seam")
-    elif cov.any() or dc > 1:
+    elif cov or dc > 1:
         failures.append("the image differs from the reference run's")
 
 for f_ in failures:

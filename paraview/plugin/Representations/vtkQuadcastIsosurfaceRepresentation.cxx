@@ -2,7 +2,6 @@
 
 #include <algorithm>
 
-#include "vtkActor.h"
 #include "vtkCellData.h"
 #include "vtkDataSetAttributes.h"
 #include "vtkImageData.h"
@@ -10,21 +9,14 @@
 #include "vtkInformationVector.h"
 #include "vtkMath.h"
 #include "vtkObjectFactory.h"
-#include "vtkPVRenderView.h"
-#include "vtkPVView.h"
 #include "vtkPointData.h"
-#include "vtkProperty.h"
 #include "vtkQuadcastIsosurfaceMapper.h"
-#include "vtkRenderer.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkUnsignedCharArray.h"
 
 vtkStandardNewMacro(vtkQuadcastIsosurfaceRepresentation);
 
-vtkQuadcastIsosurfaceRepresentation::vtkQuadcastIsosurfaceRepresentation() {
-    this->Actor->SetMapper(this->Mapper);
-    this->Actor->GetProperty()->SetDiffuseColor(1, 1, 1);
-}
+vtkQuadcastIsosurfaceRepresentation::vtkQuadcastIsosurfaceRepresentation() { this->SetMapper(this->Mapper); }
 
 vtkQuadcastIsosurfaceRepresentation::~vtkQuadcastIsosurfaceRepresentation() = default;
 
@@ -45,16 +37,6 @@ void vtkQuadcastIsosurfaceRepresentation::SetGhostLevels(int levels) {
 }
 void vtkQuadcastIsosurfaceRepresentation::SelectScalarArray(int, int, int, int, const char* name) {
     this->Mapper->SetScalarArray(name && name[0] ? name : nullptr);
-}
-void vtkQuadcastIsosurfaceRepresentation::SetDiffuseColor(double r, double g, double b) { this->Actor->GetProperty()->SetDiffuseColor(r, g, b); }
-void vtkQuadcastIsosurfaceRepresentation::SetPosition(double x, double y, double z) { this->Actor->SetPosition(x, y, z); }
-void vtkQuadcastIsosurfaceRepresentation::SetScale(double x, double y, double z) { this->Actor->SetScale(x, y, z); }
-void vtkQuadcastIsosurfaceRepresentation::SetOrientation(double x, double y, double z) { this->Actor->SetOrientation(x, y, z); }
-void vtkQuadcastIsosurfaceRepresentation::SetOrigin(double x, double y, double z) { this->Actor->SetOrigin(x, y, z); }
-
-void vtkQuadcastIsosurfaceRepresentation::SetVisibility(bool visible) {
-    this->Actor->SetVisibility(visible ? 1 : 0);
-    this->Superclass::SetVisibility(visible);
 }
 
 int vtkQuadcastIsosurfaceRepresentation::FillInputPortInformation(int, vtkInformation* info) {
@@ -108,54 +90,23 @@ void own_extent(vtkImageData* image, int own[6]) {
 int vtkQuadcastIsosurfaceRepresentation::RequestData(vtkInformation* request, vtkInformationVector** inputVector,
                                                      vtkInformationVector* outputVector) {
     vtkMath::UninitializeBounds(this->DataBounds);
-    this->Cache = vtkSmartPointer<vtkImageData>::New();
+    auto cache = vtkSmartPointer<vtkImageData>::New();
+    this->Cache = cache;
     if (inputVector[0]->GetNumberOfInformationObjects() == 1) {
         if (vtkImageData* input = vtkImageData::GetData(inputVector[0], 0)) {
-            this->Cache->ShallowCopy(input);
+            cache->ShallowCopy(input);
             int own[6], whole[6];
             own_extent(input, own);
             vtkStreamingDemandDrivenPipeline::GetWholeExtent(inputVector[0]->GetInformationObject(0), whole);
             this->Mapper->SetOwnedExtent(own);
             this->Mapper->SetWholeExtent(whole);
-            vtkQuadcastIsosurfaceMapper::DrawnBounds(this->Cache, this->Mapper->GetScheme(), own, whole, this->DataBounds);
+            vtkQuadcastIsosurfaceMapper::DrawnBounds(cache, this->Mapper->GetScheme(), own, whole, this->DataBounds);
         }
     }
     return this->Superclass::RequestData(request, inputVector, outputVector);
 }
 
-int vtkQuadcastIsosurfaceRepresentation::ProcessViewRequest(vtkInformationRequestKey* request, vtkInformation* inInfo, vtkInformation* outInfo) {
-    if (!this->Superclass::ProcessViewRequest(request, inInfo, outInfo)) return 0;
-    if (request == vtkPVView::REQUEST_UPDATE()) {
-        // The piece stays on its rank (never delivered to the client) and is drawn there.
-        vtkPVRenderView::SetPiece(inInfo, this, this->Cache, this->Cache ? this->Cache->GetActualMemorySize() : 0, 0);
-        vtkPVRenderView::SetDeliverToClientAndRenderingProcesses(inInfo, this, false, false, 0);
-        vtkPVRenderView::SetRequiresDistributedRendering(inInfo, this, true);
-        vtkPVRenderView::SetGeometryBounds(inInfo, this, this->DataBounds);
-    } else if (request == vtkPVView::REQUEST_RENDER()) {
-        // The piece as delivered here (this rank's own: it is not moved), with the extents RequestData set.
-        this->Mapper->SetInputConnection(vtkPVRenderView::GetPieceProducer(inInfo, this, 0));
-    }
-    return 1;
-}
-
-bool vtkQuadcastIsosurfaceRepresentation::AddToView(vtkView* view) {
-    if (auto* rview = vtkPVRenderView::SafeDownCast(view)) {
-        rview->GetRenderer()->AddActor(this->Actor);
-        return this->Superclass::AddToView(rview);
-    }
-    return false;
-}
-
-bool vtkQuadcastIsosurfaceRepresentation::RemoveFromView(vtkView* view) {
-    if (auto* rview = vtkPVRenderView::SafeDownCast(view)) {
-        rview->GetRenderer()->RemoveActor(this->Actor);
-        return this->Superclass::RemoveFromView(rview);
-    }
-    return false;
-}
-
 void vtkQuadcastIsosurfaceRepresentation::PrintSelf(ostream& os, vtkIndent indent) {
     this->Superclass::PrintSelf(os, indent);
-    os << indent << "GhostLevels: " << this->GhostLevels << "\n" << indent << "Mapper:\n";
-    this->Mapper->PrintSelf(os, indent.GetNextIndent());
+    os << indent << "GhostLevels: " << this->GhostLevels << "\n";
 }

@@ -4,28 +4,21 @@
 
 #include "QuadcastRepresentationsModule.h"  // for the export macro
 #include "vtkNew.h"                         // for vtkNew
-#include "vtkPVDataRepresentation.h"
-#include "vtkSmartPointer.h"                // for vtkSmartPointer
+#include "vtkQuadcastPieceRepresentation.h"
 
-class vtkActor;
-class vtkImageData;
 class vtkQuadcastIsosurfaceMapper;
 
 /// The isosurface of a point array of image data, ray cast exactly on its QSS or S31 spline or
-/// trilinear interpolant by vtkQuadcastIsosurfaceMapper. Each rank keeps the piece of the image it
-/// holds (nothing is moved or sent to the client) and draws it; IceT composites the ranks' images by
-/// depth. With more than one rank the representation asks its input for one ghost level, so that
-/// every piece holds the samples around its own and the spline's stencils match across the split:
-/// the pieces' surfaces join without a seam (the ghost samples' own cubes are drawn by the piece
-/// that owns them).
-class QUADCASTREPRESENTATIONS_EXPORT vtkQuadcastIsosurfaceRepresentation : public vtkPVDataRepresentation {
+/// trilinear interpolant by vtkQuadcastIsosurfaceMapper; each rank draws the piece of the image it
+/// holds (vtkQuadcastPieceRepresentation). With more than one rank the representation asks its
+/// input for one ghost level, so that every piece holds the samples around its own and the
+/// splines' stencils match across the split: the pieces' surfaces join without a seam (the ghost
+/// samples' own cubes are drawn by the piece that owns them).
+class QUADCASTREPRESENTATIONS_EXPORT vtkQuadcastIsosurfaceRepresentation : public vtkQuadcastPieceRepresentation {
 public:
     static vtkQuadcastIsosurfaceRepresentation* New();
-    vtkTypeMacro(vtkQuadcastIsosurfaceRepresentation, vtkPVDataRepresentation);
+    vtkTypeMacro(vtkQuadcastIsosurfaceRepresentation, vtkQuadcastPieceRepresentation);
     void PrintSelf(ostream& os, vtkIndent indent) override;
-
-    int ProcessViewRequest(vtkInformationRequestKey* request, vtkInformation* inInfo, vtkInformation* outInfo) override;
-    void SetVisibility(bool visible) override;
 
     /// vtkQuadcastIsosurfaceMapper's Isovalue, Scheme (0 QSS, 1 S31, 2 trilinear) and scalar
     /// array (the first four arguments are those of ParaView's array selection, unused).
@@ -37,13 +30,6 @@ public:
     void SetGhostLevels(int levels);
     vtkGetMacro(GhostLevels, int);
 
-    /// The actor's properties (as ParaView's other representations name them).
-    void SetDiffuseColor(double r, double g, double b);
-    void SetPosition(double x, double y, double z);
-    void SetScale(double x, double y, double z);
-    void SetOrientation(double x, double y, double z);
-    void SetOrigin(double x, double y, double z);
-
     vtkQuadcastIsosurfaceMapper* GetIsosurfaceMapper();
 
 protected:
@@ -52,16 +38,11 @@ protected:
     int FillInputPortInformation(int port, vtkInformation* info) override;
     int RequestUpdateExtent(vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector) override;
     int RequestData(vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector) override;
-    bool AddToView(vtkView* view) override;
-    bool RemoveFromView(vtkView* view) override;
 
 private:
     vtkQuadcastIsosurfaceRepresentation(const vtkQuadcastIsosurfaceRepresentation&) = delete;
     void operator=(const vtkQuadcastIsosurfaceRepresentation&) = delete;
     vtkNew<vtkQuadcastIsosurfaceMapper> Mapper;
-    vtkNew<vtkActor> Actor;
-    vtkSmartPointer<vtkImageData> Cache;  ///< this rank's piece
-    double DataBounds[6] = {1, -1, 1, -1, 1, -1};  ///< the world box of the cubes the piece draws
     int GhostLevels = 1;
 };
 
