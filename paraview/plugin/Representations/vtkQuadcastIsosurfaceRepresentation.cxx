@@ -98,6 +98,9 @@ int vtkQuadcastIsosurfaceRepresentation::RequestData(vtkInformation* request, vt
             int own[6], whole[6];
             own_extent(input, own);
             vtkStreamingDemandDrivenPipeline::GetWholeExtent(inputVector[0]->GetInformationObject(0), whole);
+            if (this->Mapper->GetScheme() == vtkQuadcastIsosurfaceMapper::TRILINEAR &&
+                (whole[0] == whole[1] || whole[2] == whole[3] || whole[4] == whole[5]))
+                vtkErrorMacro(<< "Spline Isosurface: the image has one sample along an axis: it has no trilinear cells (QSS and S31 draw it); nothing drawn");
             this->Mapper->SetOwnedExtent(own);
             this->Mapper->SetWholeExtent(whole);
             vtkQuadcastIsosurfaceMapper::DrawnBounds(cache, this->Mapper->GetScheme(), own, whole, this->DataBounds);
