@@ -225,7 +225,8 @@ if ranks == 1:
         off_face = drawn_iso & ~face & ~rim & (err > 2e-6)
         print(f"isosurface: coverage differences away from outlines {coverage_diff.sum()}; "
               f"depth max error {err[checked].max():.3g} over {checked.sum()} px (median {np.median(err[checked]):.2g}); "
-              f"face pixels {face.sum()}, of them drawn nearer than the exact surface {(face & (depth < z_iso - 2e-6)).sum()}")
+              f"face pixels {face.sum()}, of them drawn nearer than the exact surface {(face & (depth < z_iso - 2e-6)).sum()}, "
+              f"by more than 0.1 voxel {(face & drawn_iso & (t_drawn < np.where(np.isfinite(t_iso), t_iso, np.inf) - 0.1)).sum()}")
         for j, i in list(zip(*np.nonzero(coverage_diff | off_face)))[:10]:
             print(f"  pixel ({i}, {j}): depth {depth[j, i]:.7f}, exact surface {z_iso[j, i]:.7f}, plane {z_plane[j, i]:.7f}, rgb {rgb[j, i]}")
         if coverage_diff.any():
