@@ -533,33 +533,24 @@ std::vector<Quadric> tetmesh_isosurface(const MshMesh& mesh, const TetmeshIso& w
             if (std::isnan(v[k]))
                 throw ParseError(at_elem(), "node " + std::to_string(mesh.node_tags[t.node[k]]) + " has no value in field \"" + field->name + "\"");
         }
-        // Checks on the corners about their centroid (as element_isosurface builds the quadric).
         Vec3d p[4];
-        BoundingTet<double> local{};
-        Vec3d c{{0, 0, 0}};
         for (int k = 0; k < 4; ++k) p[k] = mesh.nodes[t.node[k]];
-        for (int k = 0; k < 4; ++k) c = c + p[k] * 0.25;
-        for (int k = 0; k < 4; ++k) local.p[k] = p[k] - c;
-        double longest = 0;
-        for (int a = 0; a < 4; ++a)
-            for (int b = a + 1; b < 4; ++b) longest = std::max(longest, length(local.p[a] - local.p[b]));
-        const double vol6 = std::fabs(dot(local.p[1] - local.p[0], cross(local.p[2] - local.p[0], local.p[3] - local.p[0])));
-        if (!(vol6 > 1e-12 * longest * longest * longest)) throw ParseError(at_elem(), "a flat tetrahedron (its corners are coplanar)");
+        const TetShape<double> shape = tet_shape(p);
+        if (shape.flatter_than(1e-12)) throw ParseError(at_elem(), "a flat tetrahedron (its corners are coplanar)");
         const double corner[4] = {v[0], v[1], v[2], v[3]};
         double mid[6];
         if (t.nodes == 10) {
+            Vec3d x[6];
             for (int e = 0; e < 6; ++e) {
-                const int i = bb::quadratic_edges[e][0], j = bb::quadratic_edges[e][1];
-                const int node = gmsh_edge_node[e];
-                const Vec3d m = (local.p[i] + local.p[j]) * 0.5;
-                const double off = length(mesh.nodes[t.node[node]] - c - m);
-                if (!(off <= 1e-6 * longest))
-                    throw ParseError(at_elem(), "a curved element: node " + std::to_string(mesh.node_tags[t.node[node]]) + " is " + shortest(off) +
-                                                  " from the midpoint of its edge (" + shortest(off / longest) +
-                                                  " of the element's size); only straight-sided 10-node tetrahedra are drawn exactly "
-                                                  "(mesh with Gmsh's Mesh.SecondOrderLinear = 1)");
-                mid[e] = v[node];
+                x[e] = mesh.nodes[t.node[gmsh_edge_node[e]]];
+                mid[e] = v[gmsh_edge_node[e]];
             }
+            const bb::EdgeNodeOffset<double> off = bb::edge_node_offset(p, x);
+            if (!(off.distance <= bb::straight_edge_tolerance * shape.longest))
+                throw ParseError(at_elem(), "a curved element: node " + std::to_string(mesh.node_tags[t.node[gmsh_edge_node[off.edge]]]) + " is " +
+                                              shortest(off.distance) + " from the midpoint of its edge (" + shortest(off.distance / shape.longest) +
+                                              " of the element's size); only straight-sided 10-node tetrahedra are drawn exactly "
+                                              "(mesh with Gmsh's Mesh.SecondOrderLinear = 1)");
         }
         const bb::ElementIsosurface<double> e = bb::element_isosurface(p, corner, t.nodes == 10 ? mid : nullptr, what.iso);
         lo = std::min(lo, e.lo);

@@ -79,6 +79,34 @@ Quadric<T> quadric_from_bezier(const BezierTet<T, 2>& b, const BoundingTet<T>& t
     return q;
 }
 
+/// How far a 10-node tetrahedron's edge nodes lie from their edges' midpoints (`edge_node_offset`).
+template <class T>
+struct EdgeNodeOffset {
+    T distance = T(0);  ///< the largest distance
+    int edge = 0;       ///< the edge (quadratic_edges order) where it is
+};
+
+/// Edge nodes farther than this times the longest edge from their midpoints make an element
+/// curved: its isosurface is not a quadric, and `element_isosurface` does not apply.
+inline constexpr double straight_edge_tolerance = 1e-6;
+
+/// The largest distance of the edge nodes `x` (quadratic_edges order) of the tetrahedron with
+/// corners `p` from their edges' midpoints (the first edge where it is).
+/// Numerics: about the corners' centroid c (as `element_isosurface`): |(x_e - c) - ((p_i - c) +
+/// (p_j - c)) * 0.5|, c as there.
+template <class T>
+EdgeNodeOffset<T> edge_node_offset(const Vec3<T> (&p)[4], const Vec3<T> (&x)[6]) {
+    Vec3<T> c{{T(0), T(0), T(0)}};
+    for (int k = 0; k < 4; ++k) c = c + p[k] * T(0.25);
+    EdgeNodeOffset<T> r{};
+    for (int e = 0; e < 6; ++e) {
+        const int i = quadratic_edges[e][0], j = quadratic_edges[e][1];
+        const T d = length((x[e] - c) - ((p[i] - c) + (p[j] - c)) * T(0.5));
+        if (e == 0 || d > r.distance) r = {d, e};
+    }
+    return r;
+}
+
 /// The isosurface f = iso of one straight-sided Lagrange tetrahedron (`element_isosurface`).
 template <class T>
 struct ElementIsosurface {

@@ -89,14 +89,29 @@ struct VolumeModel {
     IndexBox drawn;          ///< the cubes / cells drawn (`prepare_volume_piece`); the others are inactive
 
     int degree() const { return scheme == VolumeScheme::qss ? 2 : scheme == VolumeScheme::s31 ? 3 : 1; }
+    /// The index range [first, last] along axis a of the drawn cubes (cells): `drawn` clamped to
+    /// the volume's cubes (cells); first > last when none.
+    void drawn_range(int a, int& first, int& last) const {
+        const int n[3] = {nx, ny, nz};
+        first = std::max(0, drawn.lo[a]);
+        last = std::min(n[a] - (scheme == VolumeScheme::trilinear ? 2 : 1), drawn.hi[a]);
+    }
+    /// True when no cube (cell) is drawn (`drawn` misses the volume, or a trilinear volume is flat).
+    bool draws_nothing() const {
+        for (int a = 0; a < 3; ++a) {
+            int first = 0, last = 0;
+            drawn_range(a, first, last);
+            if (first > last) return true;
+        }
+        return false;
+    }
     /// World bounding box of the drawn reconstruction (splines reach half a voxel beyond the
     /// samples; `drawn` limits it).
     void world_box(Vec3<double>& lo, Vec3<double>& hi) const {
         const bool tri = scheme == VolumeScheme::trilinear;
-        const int n[3] = {nx, ny, nz};
         for (int a = 0; a < 3; ++a) {
-            // Index range of the drawn cubes (cells), clamped to the volume's.
-            const double first = std::max(0, drawn.lo[a]), last = std::min(n[a] - (tri ? 2 : 1), drawn.hi[a]);
+            int first = 0, last = 0;
+            drawn_range(a, first, last);
             lo[a] = origin[a] + spacing[a] * (tri ? first : first - 0.5);
             hi[a] = origin[a] + spacing[a] * (tri ? last + 1 : last + 0.5);
         }
@@ -235,8 +250,8 @@ inline void prepare_trilinear(VolumeModel& m, const spline::Volume<float>& vol) 
                     continue;
                 }
                 float lo = vol.at(i, j, k), hi = lo;
-                for (int c = 1; c < 8; ++c) {
-                    const float v = vol.at(i + (c & 1), j + ((c >> 1) & 1), k + ((c >> 2) & 1));
+                for (int corner = 1; corner < 8; ++corner) {
+                    const float v = vol.at(i + (corner & 1), j + ((corner >> 1) & 1), k + ((corner >> 2) & 1));
                     lo = std::min(lo, v);
                     hi = std::max(hi, v);
                 }

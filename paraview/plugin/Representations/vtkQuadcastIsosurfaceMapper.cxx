@@ -64,14 +64,6 @@ qr::VolumeModel geometry_of(vtkImageData* image, int scheme, const int own[6], c
     return m;
 }
 
-bool drawn_empty(const qr::VolumeModel& m) {
-    const int n[3] = {m.nx, m.ny, m.nz};
-    const int cells = m.scheme == qr::VolumeScheme::trilinear ? 1 : 0;
-    for (int a = 0; a < 3; ++a)
-        if (std::max(0, m.drawn.lo[a]) > std::min(n[a] - 1 - cells, m.drawn.hi[a])) return true;
-    return false;
-}
-
 }  // namespace
 
 struct vtkQuadcastIsosurfaceMapper::Internals {
@@ -117,7 +109,7 @@ void vtkQuadcastIsosurfaceMapper::DrawnBounds(vtkImageData* image, int scheme, c
     vtkMath::UninitializeBounds(bounds);
     if (!image || image->GetNumberOfPoints() == 0) return;
     const qr::VolumeModel g = geometry_of(image, scheme, owned, whole);
-    if (drawn_empty(g)) return;
+    if (g.draws_nothing()) return;
     quadcast::Vec3<double> lo{}, hi{};
     g.world_box(lo, hi);
     for (int a = 0; a < 3; ++a) {
@@ -157,7 +149,7 @@ bool vtkQuadcastIsosurfaceMapper::Prepare() {
         return false;
     }
     qr::VolumeModel g = geometry_of(image, this->Scheme, this->OwnedExtent, this->WholeExtent);
-    if (drawn_empty(g)) return false;  // (a piece with no cube of its own)
+    if (g.draws_nothing()) return false;  // (a piece with no cube of its own)
     try {
         quadcast::spline::Volume<float> vol(g.nx, g.ny, g.nz);
         const vtkIdType n = a->GetNumberOfTuples();

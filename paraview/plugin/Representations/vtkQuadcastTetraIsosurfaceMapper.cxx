@@ -146,15 +146,13 @@ void vtkQuadcastTetraIsosurfaceMapper::Render(vtkRenderer* ren, vtkActor* act) {
                 const double corner[4] = {v[0], v[1], v[2], v[3]};
                 double mid[6];
                 if (type == VTK_QUADRATIC_TETRA) {
-                    double longest = 0, off = 0;
-                    for (int i = 0; i < 4; ++i)
-                        for (int j = i + 1; j < 4; ++j) longest = std::max(longest, quadcast::length(corners[i] - corners[j]));
+                    quadcast::Vec3<double> edge_nodes[6];
                     for (int e = 0; e < 6; ++e) {
-                        const int i = quadcast::bb::quadratic_edges[e][0], j = quadcast::bb::quadratic_edges[e][1];
-                        off = std::max(off, quadcast::length(x[vtk_edge_node[e]] - (corners[i] + corners[j]) * 0.5));
+                        edge_nodes[e] = x[vtk_edge_node[e]];
                         mid[e] = v[vtk_edge_node[e]];
                     }
-                    if (!(off <= 1e-6 * longest)) {
+                    const double longest = quadcast::tet_shape(corners).longest;
+                    if (!(quadcast::bb::edge_node_offset(corners, edge_nodes).distance <= quadcast::bb::straight_edge_tolerance * longest)) {
                         ++curved;
                         continue;
                     }
