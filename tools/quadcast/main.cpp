@@ -2,8 +2,11 @@
 #include <iostream>
 
 #include "commands.hpp"
+#include "quadcast/gl/allocator.hpp"
 
 int main(int argc, char** argv) {
+    // llvmpipe's per-draw buffers from the heap, not from fresh mmaps every frame (quadcast/gl/allocator.hpp)
+    quadcast::gl::keep_freed_memory();
     CLI::App app{"quadcast: GPU ray casting of quadrics and trivariate splines"};
     app.require_subcommand(1);
     quadcast::cli::add_verify(app);
