@@ -222,6 +222,7 @@ public:
                 if (i++ % stride == 0) phase_sample_.push_back({p.shape.center[0], p.shape.center[1], p.shape.center[2], p.shape.radius});
             }
         }
+        overlap_sample_ = render::overlap_sample(prims);
         upload(visible_, std::vector<std::uint32_t>(std::max<std::size_t>(1, records.size())));
         upload(keep_, std::vector<std::uint32_t>(std::max<std::size_t>(1, records.size())));
         api_->BindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
@@ -320,12 +321,12 @@ public:
         gl.BindVertexArray(0);
         gl.Finish();
         check_errors(gl, "QuadricRenderer::draw");
-        count_culled(opt);
+        count_culled();
     }
 
     /// `drawn_`, `frustum_culled_` and `occluded_` of the frame just drawn.
-    void count_culled(const render::RenderOptions& opt) {
-        if (opt.occlusion_culling && count_ > 0) {
+    void count_culled() {
+        if (cull_pass_ran_) {
             const auto cmds = read_commands();
             drawn_ = earlier_phases_drawn_ + cmds[5 * render::variant_count];  // (phased drawing: and the phases before the last)
             frustum_culled_ = cmds[5 * render::variant_count + 1];
@@ -348,10 +349,12 @@ public:
         draw_primitives(cam, light, opt, deferred, opt.occlusion_culling);
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, 0);
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, 0);
-        count_culled(opt);
+        count_culled();
     }
 
     std::size_t drawn_primitives() const { return drawn_; }
+    bool cull_pass_ran() const { return cull_pass_ran_; }
+    double expected_overlap() const { return expected_overlap_; }
     std::size_t frustum_culled() const { return frustum_culled_; }
     double cull_pass_ms() const { return cull_ms_; }
     std::size_t occluded() const { return occluded_; }
@@ -420,6 +423,14 @@ public:
         const int planes_v = static_cast<int>(render::Variant::planes);
         const int phases = std::clamp(opt.occlusion_phases, 1, 8);
         const bool phased = cull_pass && depth_target != 0 && phases > 1 && planes_in_ball_ && ranges_[planes_v].second >= 4096;
+        // Where the primitives rarely overlap on screen the cull pass costs more than it saves
+        // (RenderOptions::occlusion_min_overlap); phased drawing always culls.
+        expected_overlap_ = 0.0;
+        if (cull_pass && !phased && opt.occlusion_min_overlap > 0.0f) {
+            expected_overlap_ = render::expected_overlap(overlap_sample_, cam, viewport[2], viewport[3]);
+            cull_pass = expected_overlap_ >= double(opt.occlusion_min_overlap);
+        }
+        cull_pass_ran_ = cull_pass;
         const std::vector<float> cuts = phased ? phase_cuts(cam, phases) : std::vector<float>{};
         earlier_phases_drawn_ = 0;
         const int phase_count = phased ? phases : 1;
@@ -929,6 +940,9 @@ private:
     GLuint cull_queries_[16] = {};     ///< GL_TIME_ELAPSED of the cull passes of a frame (the shadow map's and the camera's phases)
     int cull_queries_used_ = 0;
     bool planes_in_ball_ = false;      ///< every planes primitive shows only inside its bounding ball (`planes_within_ball`)
+    render::OverlapSample overlap_sample_;  ///< what `expected_overlap` estimates a frame's overlap from
+    bool cull_pass_ran_ = false;            ///< the last `draw_primitives` ran the cull pass
+    double expected_overlap_ = 0.0;         ///< the overlap it decided on (0: not estimated)
     std::vector<std::array<float, 4>> phase_sample_;  ///< centres and radii of at most ~4096 planes primitives (`phase_cuts`)
     std::size_t earlier_phases_drawn_ = 0;  ///< primitives drawn by the phases before the last of the last `draw_primitives`
     double cull_ms_ = 0.0;  ///< GPU time of the last draw's cull passes (GL_TIME_ELAPSED)
@@ -980,6 +994,8 @@ void QuadricRenderer::draw_primitives(const render::Camera& cam, const render::L
 render::Image QuadricRenderer::read() const { return impl_->read(); }
 std::size_t QuadricRenderer::primitive_count() const { return impl_->primitive_count(); }
 std::size_t QuadricRenderer::drawn_primitives() const { return impl_->drawn_primitives(); }
+bool QuadricRenderer::cull_pass_ran() const { return impl_->cull_pass_ran(); }
+double QuadricRenderer::expected_overlap() const { return impl_->expected_overlap(); }
 std::size_t QuadricRenderer::frustum_culled() const { return impl_->frustum_culled(); }
 std::size_t QuadricRenderer::occluded() const { return impl_->occluded(); }
 double QuadricRenderer::cull_pass_ms() const { return impl_->cull_pass_ms(); }

@@ -125,6 +125,7 @@ TEST_CASE("the occlusion cull pass changes no pixel of the GL renderer") {
         r.set_primitives(s.prims);
         for (int mode = 0; mode < 6; ++mode) {
             RenderOptions o;
+            o.occlusion_min_overlap = 0.0f;  // (the cull pass in every frame: these scenes test it)
             o.width = w;
             o.height = h;
             o.culling = mode != 1;
@@ -192,6 +193,7 @@ TEST_CASE("the passes over records dispatched in many rows of workgroups give th
     for (const Case& s : occlusion_cases(w, h)) {
         r.set_primitives(s.prims);
         RenderOptions o;
+        o.occlusion_min_overlap = 0.0f;  // (the cull pass in every frame: these scenes test it)
         o.width = w;
         o.height = h;
         r.draw(s.camera, light, o);
@@ -232,6 +234,7 @@ TEST_CASE("the occlusion cull pass keeps exactly what shows in front of a large 
     r.set_primitives(prims);
     Light light;
     RenderOptions o;
+    o.occlusion_min_overlap = 0.0f;  // (the cull pass in every frame: these scenes test it)
     o.width = w;
     o.height = h;
     r.draw(cam, light, o);
@@ -554,6 +557,7 @@ TEST_CASE("phased drawing of tetrahedral pieces culls what earlier phases hide a
     for (const auto& [name, cam] : cams)
         for (int mode = 0; mode < 2; ++mode) {
             RenderOptions o;
+            o.occlusion_min_overlap = 0.0f;  // (the cull pass in every frame: these scenes test it)
             o.width = w;
             o.height = h;
             o.culling = false;  // (isosurface pieces: render::isosurface_culling_note)
@@ -623,6 +627,7 @@ TEST_CASE("draw_primitives into a host application's framebuffer: the cull pass 
         r.set_primitives(s.prims);
         for (int mode = 0; mode < 2; ++mode) {
             RenderOptions o;
+            o.occlusion_min_overlap = 0.0f;  // (the cull pass in every frame: these scenes test it)
             o.width = w;
             o.height = h;
             o.culling = mode == 0;
@@ -653,4 +658,59 @@ TEST_CASE("draw_primitives into a host application's framebuffer: the cull pass 
     api.DeleteFramebuffers(1, &fbo);
     api.DeleteRenderbuffers(1, &color);
     api.DeleteRenderbuffers(1, &depth);
+}
+
+TEST_CASE("the cull pass runs only where the primitives overlap enough to pay for it, and the picture is the same") {
+    // RenderOptions::occlusion_min_overlap: 300 small spheres hardly overlap (expected overlap
+    // far below 3): no cull pass, every primitive drawn; 60000 spheres of the benchmark's size
+    // overlap about 5 deep: the cull pass runs and hides most of them. Either way the picture
+    // is the one with the cull pass forced (min overlap 0) and without culling.
+    gl::OsmesaContext ctx;
+    gl::QuadricRenderer r(ctx.api());
+    const int w = 320, h = 240;
+    using qc_render_test::look_at;
+    const Camera cam = look_at(vec3(0.5, 0.5, 3.0), vec3(0.5, 0.5, 0.5), vec3(0.0, 1.0, 0.0), qc_render_test::perspective(30, double(w) / h, 1.0, 5.0));
+    Light light;
+    for (const int n : {300, 60000}) {
+        std::mt19937 rng(5);
+        std::uniform_real_distribution<float> u(0.0f, 1.0f);
+        const float radius = n == 300 ? 0.01f : 0.3f * std::pow(float(n), -1.0f / 3.0f);
+        std::vector<Primitive> prims;
+        for (int i = 0; i < n; ++i) prims.push_back(shapes::sphere({u(rng), u(rng), u(rng)}, radius));
+        r.set_primitives(prims);
+        RenderOptions o;  // the default: occlusion culling, min overlap 3
+        o.width = w;
+        o.height = h;
+        r.draw(cam, light, o);
+        const Image automatic = r.read();
+        const bool ran = r.cull_pass_ran();
+        const double overlap = r.expected_overlap();
+        const std::size_t drawn = r.drawn_primitives();
+        o.occlusion_min_overlap = 0.0f;
+        r.draw(cam, light, o);
+        const Image forced = r.read();
+        CHECK(r.cull_pass_ran());
+        CHECK(r.expected_overlap() == 0.0);  // (not estimated)
+        o.occlusion_culling = false;
+        r.draw(cam, light, o);
+        const Image off = r.read();
+        CHECK_FALSE(r.cull_pass_ran());
+        std::printf("[occlusion] %d spheres: expected overlap %.2f, cull pass %s, %zu drawn\n", n, overlap, ran ? "ran" : "skipped", drawn);
+        const ImageDiff da = image_diff(automatic, off), df = image_diff(forced, off);
+        CHECK(da.coverage_diff == 0);
+        CHECK(da.color_diff == 0);
+        CHECK(da.depth_diff == 0);
+        CHECK(df.coverage_diff == 0);
+        CHECK(df.color_diff == 0);
+        CHECK(df.depth_diff == 0);
+        if (n == 300) {
+            CHECK(overlap < 0.5);
+            CHECK_FALSE(ran);
+            CHECK(drawn == prims.size());
+        } else {
+            CHECK(overlap > double(RenderOptions{}.occlusion_min_overlap));
+            CHECK(ran);
+            CHECK(drawn < prims.size() / 2);
+        }
+    }
 }

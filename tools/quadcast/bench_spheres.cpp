@@ -102,11 +102,16 @@ void run_bounds_bench(const BoundsBenchOptions& o) {
                 "(QuadricRenderer::set_compute_bounds; 'c of cp': its cull passes' GPU time; 'cull/comp' > 1: the compute pass pays);\n"
                 "'rast': the cull pass with the occluders drawn into the depth buffer by the rasteriser instead of written pixel by pixel by a compute pass\n"
                 "(QuadricRenderer::set_raster_occluders; 'r of cp': its GPU time of the occluders and cull passes, 'r drawn': the primitives it keeps,\n"
-                "'r fs': its fragment-shader invocations per covered pixel; 'cull/rast' > 1: the rasteriser pays)\n");
+                "'r fs': its fragment-shader invocations per covered pixel; 'cull/rast' > 1: the rasteriser pays);\n"
+                "'overlap': the renderer's expected overlap of the frame (render::expected_overlap, from a sample of at most 4096 primitives),\n"
+                "'t layers': the tight bounds' rasterised fragments per viewport pixel (measured); 'auto': the renderer's default\n"
+                "(the cull pass only where the expected overlap reaches RenderOptions::occlusion_min_overlap = %.1f; 'cull' and 'quad' above always and never run it),\n"
+                "'best/auto': the faster of 'tight' and 'cull' over 'auto' (1.00x: the default chose right)\n", double(render::RenderOptions{}.occlusion_min_overlap));
     std::printf("%10s %9s %8s %8s %8s %8s %10s %10s %7s %6s %6s %6s %7s %7s %7s", o.sticks ? "sticks" : "spheres", "covered", "quad ms", "tight ms", "cull ms", "of it cp",
                 "quad/cull", "tight/cull", "drawn", "q rast", "t rast", "c rast", "q fs", "t fs", "c fs");
     std::printf(" %9s %11s %9s %9s %11s %8s %8s %8s %7s %9s", "late ms", "late/cull", "comp ms", "c of cp", "cull/comp", "rast ms", "r of cp", "r drawn", "r fs", "cull/rast");
     if (o.sticks) std::printf(" %8s %10s %7s", "rect ms", "rect/tight", "r rast");
+    std::printf(" %8s %8s %8s %6s %10s", "overlap", "t layers", "auto ms", "auto", "best/auto");
     if (o.compare) std::printf(" %16s %14s %14s %15s", "closed cull ms", "sphere/closed", "closed comp ms", "cl. cull/comp");
     std::printf("\n");
     gl::QuadricRenderer r(ctx.api());
@@ -129,6 +134,9 @@ void run_bounds_bench(const BoundsBenchOptions& o) {
     }
     modes[0].tight_bounds = false;
     modes[2].occlusion_culling = true;
+    modes[2].occlusion_min_overlap = 0.0f;  // the cull pass in every frame
+    render::RenderOptions automatic = modes[2];  // the renderer's default: the cull pass where the expected overlap reaches the threshold
+    automatic.occlusion_min_overlap = render::RenderOptions{}.occlusion_min_overlap;
     auto time_frame = [&](gl::QuadricRenderer& renderer, const render::RenderOptions& ro) {
         const auto t0 = std::chrono::steady_clock::now();
         renderer.draw(cam, light, ro);
@@ -194,10 +202,12 @@ void run_bounds_bench(const BoundsBenchOptions& o) {
         r.draw(cam, light, modes[2]);  // warm-up
         if (general) general->draw(cam, light, modes[2]);  // warm-up
         // Time the frames, interleaved
+        std::vector<double> ms_auto;
         std::vector<double> ms[3], ms_general, ms_general_comp, ms_cull, ms_rect, ms_late, ms_comp, ms_cull_comp, ms_occ, ms_cull_occ;
         for (int i = 0; i < o.frames; ++i) {
             for (int m = 0; m < 3; ++m) ms[m].push_back(time_frame(r, modes[m]));
             ms_cull.push_back(r.cull_pass_ms());
+            ms_auto.push_back(time_frame(r, automatic));
             r.set_early_discard(false);
             ms_late.push_back(time_frame(r, modes[2]));
             r.set_early_discard(true);
@@ -234,6 +244,10 @@ void run_bounds_bench(const BoundsBenchOptions& o) {
             const double t_rect = median(ms_rect);
             std::printf(" %8.1f %9.2fx %7.2f", t_rect, t_rect / t[1], rast_rect / covered);
         }
+        r.draw(cam, light, automatic);
+        const double t_auto = median(ms_auto);
+        std::printf(" %8.2f %8.2f %8.1f %6s %9.2fx", r.expected_overlap(), rast[1] / (double(o.width) * o.height), t_auto, r.cull_pass_ran() ? "cull" : "skip",
+                    std::min(t[1], t[2]) / t_auto);
         if (general) {
             const double m_general = median(ms_general);
             const double m_general_comp = median(ms_general_comp);

@@ -35,6 +35,13 @@ struct RenderArgs {
     bool cpu = false, timing = false;
 };
 
+/// An expected overlap (gl::QuadricRenderer::expected_overlap) as printed.
+std::string fmt_overlap(double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.2f", v);
+    return buf;
+}
+
 /// Frees a vector's memory.
 template <class T>
 void release(std::vector<T>& v) {
@@ -276,9 +283,13 @@ int run_render(const RenderArgs& a) {
                         a.height, median(ms), a.frames, ctx->info().renderer.c_str());
             if (slim.ball_count() > 0)
                 std::printf("%s: %zu SLIM balls, three passes, %d-bit float accumulation targets\n", a.scene.c_str(), slim.ball_count(), slim.precision());
-            if (fr.options.occlusion_culling)
-                std::printf("%s: cull pass: %zu primitives drawn, %zu culled outside the view, %zu hidden behind occluders\n", a.scene.c_str(),
-                            r.drawn_primitives(), r.frustum_culled(), r.occluded());
+            if (fr.options.occlusion_culling && r.cull_pass_ran())
+                std::printf("%s: cull pass: %zu primitives drawn, %zu culled outside the view, %zu hidden behind occluders%s\n", a.scene.c_str(),
+                            r.drawn_primitives(), r.frustum_culled(), r.occluded(),
+                            r.expected_overlap() > 0.0 ? (" (expected overlap " + fmt_overlap(r.expected_overlap()) + ")").c_str() : "");
+            else if (fr.options.occlusion_culling && primitive_count > 0)
+                std::printf("%s: no cull pass: expected overlap %s below occlusion_min_overlap %g (the primitives rarely hide one another); all %zu drawn\n",
+                            a.scene.c_str(), fmt_overlap(r.expected_overlap()).c_str(), double(fr.options.occlusion_min_overlap), r.drawn_primitives());
             if (gl::has_extension(ctx->api(), "GL_ARB_pipeline_statistics_query")) {
                 // One more frame with the fragment count (not timed).
                 r.set_count_fragments(true);

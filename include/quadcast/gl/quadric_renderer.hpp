@@ -115,16 +115,23 @@ public:
     render::Image read() const;
 
     std::size_t primitive_count() const;
-    /// The primitives the last `draw` drew: with RenderOptions::occlusion_culling those its cull
-    /// pass kept (in the frustum and not hidden by occluders), else all of them.
+    /// The primitives the last `draw` drew: where its cull pass ran, those it kept (in the
+    /// frustum and not hidden by occluders), else all of them.
     std::size_t drawn_primitives() const;
+    /// Whether the last `draw`'s (or `draw_primitives`') camera pass ran the cull pass:
+    /// RenderOptions::occlusion_culling and an expected overlap of at least
+    /// RenderOptions::occlusion_min_overlap (or phased drawing).
+    bool cull_pass_ran() const;
+    /// The expected overlap (render::expected_overlap) the last camera pass decided on; 0 where
+    /// it did not estimate one (occlusion culling off, occlusion_min_overlap 0, phased drawing).
+    double expected_overlap() const;
     /// Of the last `draw`'s primitives, those its cull pass left out because they cannot reach a
     /// pixel of the viewport (behind the eye or off screen), and those hidden behind occluders
-    /// (0 without RenderOptions::occlusion_culling).
+    /// (0 where the cull pass did not run).
     std::size_t frustum_culled() const;
     std::size_t occluded() const;
     /// GPU time (GL_TIME_ELAPSED) of the last `draw`'s cull passes (the camera's and the shadow
-    /// map's), in milliseconds; 0 without RenderOptions::occlusion_culling.
+    /// map's), in milliseconds; 0 where none ran.
     double cull_pass_ms() const;
 
 private:

@@ -6,7 +6,10 @@
 // solid too, and every ray crossing the disk has met the surface before.
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstddef>
+#include <vector>
 
 #include "quadcast/render/types.hpp"
 #include "quadcast/render/validate.hpp"
@@ -109,6 +112,89 @@ inline OcclusionRange occlusion_range(const Camera& cam) {
     const double gap = (-t + std::sqrt(tan2 + (1.0 + tan2) * (R2 - 1.0))) / (1.0 + tan2) * 0.99;
     if (!(gap > 1e-3)) return none;
     return {static_cast<float>(std::max(n, 0.0) * (1.0 + 1e-5)), static_cast<float>(f * (1.0 - 1e-5)), static_cast<float>(gap)};
+}
+
+/// Whether the cull pass pays (RenderOptions::occlusion_min_overlap): it costs a roughly fixed
+/// few milliseconds plus work per primitive and per occluder pixel, and saves only the fragments
+/// of hidden primitives, of which there are few where primitives rarely overlap on screen. The
+/// renderer decides per frame from the frame's expected overlap: the pixels the primitives cover,
+/// summed and divided by the viewport's pixels (how many primitive layers an average pixel has).
+/// An estimate from a sample, to decide with, not a bound; the picture is the same either way.
+
+/// A primitive as a capsule for `expected_overlap`: the segment centre +- half_axis swept by a
+/// ball of radius rho (centre x, y, z, half axis x, y, z, rho). Slabs (cylinders, cones): the
+/// segment of the axis inside the slab, rho = sqrt(R^2 - h^2) with R the bounding radius and h
+/// the slab's half length along the unit axis (a cylinder's radius; a cone's larger end's for
+/// the shapes' cones); every other variant: its bounding ball.
+inline std::array<float, 7> overlap_capsule(const Primitive& p) {
+    const ClippedQuadric<float>& s = p.shape;
+    std::array<float, 7> out{{s.center[0], s.center[1], s.center[2], 0.0f, 0.0f, 0.0f, s.radius}};
+    if (p.variant != Variant::slab && p.variant != Variant::open_slab) return out;
+    const Vec3<double> axis = cast<double>(s.axis);
+    const double a = length(axis);
+    if (!(a > 0.0)) return out;
+    const double h = std::min(double(s.half_length) / a, double(s.radius)), R = s.radius;
+    for (int i = 0; i < 3; ++i) out[static_cast<std::size_t>(3 + i)] = static_cast<float>(axis[i] / a * h);
+    out[6] = static_cast<float>(std::sqrt(std::max(R * R - h * h, 0.0)));
+    return out;
+}
+
+/// The primitives `expected_overlap` looks at: at most `max_capsules` of them, evenly strided,
+/// as capsules (`overlap_capsule`), each standing for `weight` primitives.
+struct OverlapSample {
+    std::vector<std::array<float, 7>> capsules;
+    double weight = 0.0;
+};
+
+inline OverlapSample overlap_sample(const std::vector<Primitive>& prims, std::size_t max_capsules = 4096) {
+    OverlapSample s;
+    if (prims.empty() || max_capsules == 0) return s;
+    const std::size_t stride = (prims.size() + max_capsules - 1) / max_capsules;
+    for (std::size_t i = 0; i < prims.size(); i += stride) s.capsules.push_back(overlap_capsule(prims[i]));
+    s.weight = double(prims.size()) / double(s.capsules.size());
+    return s;
+}
+
+/// The pixels of a width x height view a capsule (`overlap_capsule`) covers, estimated: its
+/// centre projected with the camera's matrices; at the centre's clip w, a ball of radius rho
+/// covers pi rho_x rho_y pixels and the segment adds 2 rho L, L the projected length of the axis
+/// (rho_x = rho P00 width / (2 w), rho_y likewise with P11 and height; perspective
+/// foreshortening across the capsule is left out). That area times the share of the capsule's
+/// screen box inside the viewport. A capsule behind the eye plane covers nothing; one reaching
+/// to it (a perspective camera inside or beside it) counts as the whole viewport.
+inline double capsule_pixels(const Camera& cam, int width, int height, const std::array<float, 7>& c) {
+    const Mat4<double> view = cast<double>(cam.view), proj = cast<double>(cam.projection);
+    const Vec4<double> vc = view * Vec4<double>{{c[0], c[1], c[2], 1.0}};
+    const Vec4<double> va = view * Vec4<double>{{c[3], c[4], c[5], 0.0}};
+    const double rho = c[6], half = std::sqrt(va[0] * va[0] + va[1] * va[1] + va[2] * va[2]);
+    const double W = width, H = height;
+    if (!cam.orthographic) {
+        const double s = -vc[2], reach = rho + half;
+        if (s < -reach) return 0.0;
+        if (s <= reach) return W * H;
+    }
+    const Vec4<double> clip = proj * vc;
+    if (!(clip[3] > 0.0)) return 0.0;
+    const double kx = std::fabs(proj[0][0]) * 0.5 * W / clip[3], ky = std::fabs(proj[1][1]) * 0.5 * H / clip[3];
+    const double cx = (clip[0] / clip[3] + 1.0) * 0.5 * W, cy = (clip[1] / clip[3] + 1.0) * 0.5 * H;
+    const double lx = 2.0 * va[0] * kx, ly = 2.0 * va[1] * ky;
+    const double rx = rho * kx, ry = rho * ky, r = std::sqrt(rx * ry);
+    const double area = 3.14159265358979323846 * rx * ry + 2.0 * r * std::sqrt(lx * lx + ly * ly);
+    const double ex = rx + 0.5 * std::fabs(lx), ey = ry + 0.5 * std::fabs(ly);  // half extents of its box
+    auto inside = [](double centre, double e, double size) {
+        if (!(e > 0.0)) return centre >= 0.0 && centre <= size ? 1.0 : 0.0;
+        return std::clamp((std::min(centre + e, size) - std::max(centre - e, 0.0)) / (2.0 * e), 0.0, 1.0);
+    };
+    return std::min(area * inside(cx, ex, W) * inside(cy, ey, H), W * H);
+}
+
+/// The expected overlap of a frame: the sample's covered pixels (`capsule_pixels`) times its
+/// weight, over the viewport's pixels. 0 for an empty sample or viewport.
+inline double expected_overlap(const OverlapSample& s, const Camera& cam, int width, int height) {
+    if (s.capsules.empty() || width <= 0 || height <= 0) return 0.0;
+    double sum = 0.0;
+    for (const auto& c : s.capsules) sum += capsule_pixels(cam, width, height, c);
+    return sum * s.weight / (double(width) * double(height));
 }
 
 }  // namespace quadcast::render

@@ -96,6 +96,12 @@ struct RenderOptions {
     /// behind the conservative occluders of closed convex primitives (quadcast/occlusion.hpp).
     /// The picture is the same either way; the CPU reference does not need it.
     bool occlusion_culling = true;
+    /// GL, with occlusion_culling: the cull pass runs only in frames whose expected overlap
+    /// (`expected_overlap` in quadcast/render/occluder.hpp: the pixels the primitives cover,
+    /// summed, over the viewport's pixels) is at least this; below it the primitives rarely hide
+    /// one another and the pass costs more than it saves. 0: always. Tetrahedral pieces drawn in
+    /// phases (occlusion_phases) are always culled. The same picture either way.
+    float occlusion_min_overlap = 3.0f;
     /// GL, with occlusion_culling: primitives clipped to four planes (tetrahedral pieces: skins,
     /// quadratic finite elements, isosurfaces as quadrics) are drawn in this many phases (1-8) by
     /// the nearest view distance of their bounding balls, nearest first, when each shows only

@@ -147,6 +147,9 @@ struct Options {
     bool occlusion_culling = true;
     /// "occlusion_phases": phased drawing of tetrahedral pieces (RenderOptions::occlusion_phases), 1-8.
     int occlusion_phases = 3;
+    /// "occlusion_min_overlap": the cull pass runs only in frames whose expected overlap reaches
+    /// this (RenderOptions::occlusion_min_overlap); 0: always.
+    float occlusion_min_overlap = render::RenderOptions{}.occlusion_min_overlap;
     bool deferred = false;
     bool shadows = false;
     bool silhouettes = false;
