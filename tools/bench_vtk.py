@@ -11,8 +11,9 @@ or N capped cylinders of length 0.05 and radius 0.005 with uniform directions; a
 grey colour; the default headlight. Each scene is a quadcast JSON scene, and its numbers go to VTK
 as a NumPy file (VTK reads binary arrays, so its loading is not slowed by JSON).
 
-quadcast: `quadcast render SCENE.json --frames F` (its default options: back-face culling and the
-occlusion cull pass on), the median of F frames after a warm-up, each frame ending in glFinish.
+quadcast: `quadcast render SCENE.json --frames F` (its default options: back-face culling, and the
+occlusion cull pass where the frame's expected overlap reaches 3), the median of F frames after a
+warm-up, each frame ending in glFinish.
 VTK: vtkOpenGLSphereMapper / vtkOpenGLStickMapper (VTK's impostor mappers, the ones
 vtkMoleculeMapper uses) in an offscreen vtkRenderWindow under Xvfb, the median of F
 Render() + WaitForCompletion() (glFinish) after a warm-up frame. Both run on the same Mesa

@@ -223,6 +223,8 @@ public:
             }
         }
         overlap_sample_ = render::overlap_sample(prims);
+        cull_pass_ran_ = false;
+        expected_overlap_ = 0.0;
         upload(visible_, std::vector<std::uint32_t>(std::max<std::size_t>(1, records.size())));
         upload(keep_, std::vector<std::uint32_t>(std::max<std::size_t>(1, records.size())));
         api_->BindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
@@ -275,7 +277,7 @@ public:
             gl.ClearBufferfv(GL_DEPTH, 0, &clear_one);
             gl.Enable(GL_DEPTH_TEST);
             gl.DepthFunc(GL_LESS);
-            if (opt.occlusion_culling) rasterise_occluders(light_cam_, shadow_size_, shadow_size_);
+            if (opt.occlusion_culling) rasterise_occluders(light_cam_, opt, shadow_size_, shadow_size_);
             draw_primitives(light_cam_, light, opt, true, opt.occlusion_culling, stex_);  // culled from the light: what it cannot see casts no shadow
         }
         const float bg[4] = {opt.background[0], opt.background[1], opt.background[2], 1.0f};
@@ -296,7 +298,7 @@ public:
         gl.ClearBufferfv(GL_DEPTH, 0, &one);
         if (depth_test_) gl.Enable(GL_DEPTH_TEST); else gl.Disable(GL_DEPTH_TEST);
         gl.DepthFunc(GL_LESS);
-        if (opt.occlusion_culling && depth_test_) rasterise_occluders(cam, opt.width, opt.height);  // (before the primitive pass's queries)
+        if (opt.occlusion_culling && depth_test_) rasterise_occluders(cam, opt, opt.width, opt.height);  // (before the primitive pass's queries)
         if (!query_) gl.GenQueries(1, &query_);
         gl.BeginQuery(GL_SAMPLES_PASSED, query_);
         if (count_fragments_) {
@@ -338,7 +340,8 @@ public:
     }
 
     /// The public `draw_primitives`: into the host's bound framebuffer, with the cull pass when
-    /// opt.occlusion_culling (its occluders are these primitives only; one phase).
+    /// opt.occlusion_culling and it pays (`runs_cull_pass`; its occluders are these primitives
+    /// only; one phase).
     void draw_into_bound(const render::Camera& cam, const render::Light& light, const render::RenderOptions& opt, bool deferred) {
         const Api& gl = *api_;
         cull_queries_used_ = 0;
@@ -406,6 +409,25 @@ public:
         bool last() const { return index + 1 == count; }
     };
 
+    /// Whether `draw_primitives` draws the planes primitives in phases: with a depth target, more
+    /// than one phase asked for, and at least 4096 of them, each inside its bounding ball.
+    bool phased_drawing(const render::RenderOptions& opt, bool depth_target) const {
+        return depth_target && std::clamp(opt.occlusion_phases, 1, 8) > 1 && planes_in_ball_ &&
+               ranges_[static_cast<int>(render::Variant::planes)].second >= 4096;
+    }
+
+    /// Whether a frame with occlusion culling runs the cull pass: phased drawing always does;
+    /// otherwise where its expected overlap (`render::expected_overlap`, into `overlap`; 0 when
+    /// not estimated) reaches RenderOptions::occlusion_min_overlap, or that is 0. Where the
+    /// primitives rarely overlap on screen the pass costs more than it saves.
+    bool runs_cull_pass(const render::Camera& cam, const render::RenderOptions& opt, bool depth_target, int width, int height, double& overlap) const {
+        overlap = 0.0;
+        if (count_ == 0) return false;
+        if (phased_drawing(opt, depth_target) || !(opt.occlusion_min_overlap > 0.0f)) return true;
+        overlap = render::expected_overlap(overlap_sample_, cam, width, height);
+        return overlap >= double(opt.occlusion_min_overlap);
+    }
+
     /// Draws every variant's primitives with the forward or geometry-buffer programs into the
     /// bound framebuffer, then the other passes (`add_pass`).
     /// With `cull_pass` and a depth target, the planes primitives, when all show only inside their
@@ -419,17 +441,10 @@ public:
         const Api& gl = *api_;
         GLint viewport[4] = {0, 0, 1, 1};
         gl.GetIntegerv(GL_VIEWPORT, viewport);
-        cull_pass = cull_pass && count_ > 0;  // (no primitives: nothing to cull, nothing drawn)
-        const int planes_v = static_cast<int>(render::Variant::planes);
         const int phases = std::clamp(opt.occlusion_phases, 1, 8);
-        const bool phased = cull_pass && depth_target != 0 && phases > 1 && planes_in_ball_ && ranges_[planes_v].second >= 4096;
-        // Where the primitives rarely overlap on screen the cull pass costs more than it saves
-        // (RenderOptions::occlusion_min_overlap); phased drawing always culls.
         expected_overlap_ = 0.0;
-        if (cull_pass && !phased && opt.occlusion_min_overlap > 0.0f) {
-            expected_overlap_ = render::expected_overlap(overlap_sample_, cam, viewport[2], viewport[3]);
-            cull_pass = expected_overlap_ >= double(opt.occlusion_min_overlap);
-        }
+        cull_pass = cull_pass && runs_cull_pass(cam, opt, depth_target != 0, viewport[2], viewport[3], expected_overlap_);  // (none without primitives)
+        const bool phased = cull_pass && phased_drawing(opt, depth_target != 0);
         cull_pass_ran_ = cull_pass;
         const std::vector<float> cuts = phased ? phase_cuts(cam, phases) : std::vector<float>{};
         earlier_phases_drawn_ = 0;
@@ -457,9 +472,12 @@ public:
     /// the primitive pass (whose own surfaces lie in front and are drawn: the picture does not
     /// change), and the first cull pass takes it into its depth image (OcclusionPass::depth_image).
     /// The depth test runs before the (empty) fragment stage.
-    void rasterise_occluders(const render::Camera& cam, int width, int height) {
+    /// Not in a frame whose cull pass `draw_primitives` will skip (`runs_cull_pass`, with a depth target).
+    void rasterise_occluders(const render::Camera& cam, const render::RenderOptions& opt, int width, int height) {
         occluders_in_depth_ = false;
         if (!raster_occluders_ || count_ == 0) return;
+        double overlap = 0.0;
+        if (!runs_cull_pass(cam, opt, true, width, height, overlap)) return;
         const render::OcclusionRange range = render::occlusion_range(cam);
         if (!(range.far > range.near)) return;
         timed_cull([&] { draw_occluders(cam, range, width, height); });

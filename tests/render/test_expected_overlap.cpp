@@ -4,6 +4,7 @@
 // from its matrices), tested in double against the sphere or the capped cylinder.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -56,11 +57,25 @@ struct TestView {
         }
     }
 
+    /// The pixels whose rays `hit` accepts, among those of the box around the projection of the
+    /// ball (c, R) holding the shape (the whole image for a ball reaching the eye plane).
     template <class Hit>
-    long count(const Hit& hit) const {
+    long count(const Hit& hit, const Vec3<double>& c, double R) const {
+        int i0 = 0, i1 = width - 1, j0 = 0, j1 = height - 1;
+        const Vec3<double> d = c - eye;
+        const double vx = dot(d, x), vy = dot(d, y), depth = -dot(d, z);
+        if (ortho || depth > 1.01 * R) {
+            const double sx = ortho ? half_height * aspect : depth * tan_half * aspect, sy = ortho ? half_height : depth * tan_half;
+            const double grow = ortho ? 1.0 : depth / (depth - R);  // (the ball's silhouette lies within R depth / (depth - R) of its centre's ray)
+            auto px = [](double ndc, int size) { return (ndc + 1.0) * 0.5 * size; };
+            i0 = std::max(i0, int(std::floor(px((vx - R * grow) / sx, width))) - 1);
+            i1 = std::min(i1, int(std::ceil(px((vx + R * grow) / sx, width))) + 1);
+            j0 = std::max(j0, int(std::floor(px((vy - R * grow) / sy, height))) - 1);
+            j1 = std::min(j1, int(std::ceil(px((vy + R * grow) / sy, height))) + 1);
+        }
         long n = 0;
-        for (int j = 0; j < height; ++j)
-            for (int i = 0; i < width; ++i) {
+        for (int j = j0; j <= j1; ++j)
+            for (int i = i0; i <= i1; ++i) {
                 Vec3<double> o, d;
                 ray(i, j, o, d);
                 n += hit(o, d);
@@ -120,7 +135,7 @@ TEST_CASE("capsule_pixels estimates the pixels of a sphere and of a capped cylin
         for (const Ball& b : balls) {
             const Primitive p = shapes::sphere({float(b.c[0]), float(b.c[1]), float(b.c[2])}, float(b.r));
             const double est = capsule_pixels(v.cam, v.width, v.height, overlap_capsule(p));
-            const long exact = v.count([&](const Vec3<double>& o, const Vec3<double>& d) { return hits_ball(o, d, b.c, b.r); });
+            const long exact = v.count([&](const Vec3<double>& o, const Vec3<double>& d) { return hits_ball(o, d, b.c, b.r); }, b.c, b.r);
             std::printf("[overlap] sphere %s, %s: estimate %.0f px, exact %ld px\n", b.what, v.ortho ? "orthographic" : "perspective", est, exact);
             REQUIRE(exact > 200);
             // Perspective: the ellipse of an off-axis ball is larger than the disk at its depth by
@@ -138,7 +153,7 @@ TEST_CASE("capsule_pixels estimates the pixels of a sphere and of a capped cylin
             const double est = capsule_pixels(v.cam, v.width, v.height, overlap_capsule(p));
             const Vec3<double> a = vd(s.a), b = vd(s.b), c = (a + b) * 0.5, axis = normalize(b - a);
             const double h = 0.5 * length(b - a);
-            const long exact = v.count([&](const Vec3<double>& o, const Vec3<double>& d) { return hits_cylinder(o, d, c, axis, h, s.r); });
+            const long exact = v.count([&](const Vec3<double>& o, const Vec3<double>& d) { return hits_cylinder(o, d, c, axis, h, s.r); }, c, std::hypot(h, double(s.r)));
             std::printf("[overlap] cylinder %s, %s: estimate %.0f px, exact %ld px\n", s.what, v.ortho ? "orthographic" : "perspective", est, exact);
             REQUIRE(exact > 200);
             // The capsule's round ends add pi r^2 to a side-on cylinder's 4 r h (10% for the first
@@ -155,7 +170,7 @@ TEST_CASE("capsule_pixels: off screen, half on screen, behind the eye, around th
         return capsule_pixels(v.cam, v.width, v.height, overlap_capsule(shapes::sphere({float(c[0]), float(c[1]), float(c[2])}, float(r))));
     };
     auto exact = [&](const Vec3<double>& c, double r) {
-        return double(v.count([&](const Vec3<double>& o, const Vec3<double>& d) { return hits_ball(o, d, c, r); }));
+        return double(v.count([&](const Vec3<double>& o, const Vec3<double>& d) { return hits_ball(o, d, c, r); }, c, r));
     };
     CHECK(est({{edge_x + 1.0, 0.0, 0.0}}, 0.5) == 0.0);  // beyond the right edge
     CHECK(est({{0.0, 0.0, 9.0}}, 0.5) == 0.0);           // behind the eye
@@ -177,13 +192,14 @@ TEST_CASE("expected_overlap of random spheres and sticks: the sampled sum agains
         if (i % 2 == 0) {
             const float r = 0.02f;
             prims.push_back(shapes::sphere(c, r));
-            exact += double(v.count([&](const Vec3<double>& o, const Vec3<double>& d) { return hits_ball(o, d, vd(c), r); }));
+            exact += double(v.count([&](const Vec3<double>& o, const Vec3<double>& d) { return hits_ball(o, d, vd(c), r); }, vd(c), r));
         } else {
             glm::vec3 d(s(rng), s(rng), s(rng));
             if (glm::length(d) < 0.1f) d = glm::vec3(1.0f, 0.0f, 0.0f);
             d = glm::normalize(d);
             prims.push_back(shapes::cylinder(c - 0.04f * d, c + 0.04f * d, 0.008f, shapes::Ends::both, {{0.5f, 0.5f, 0.5f}}));
-            exact += double(v.count([&](const Vec3<double>& o, const Vec3<double>& dir) { return hits_cylinder(o, dir, vd(c), vd(d), 0.04, 0.008); }));
+            exact += double(v.count([&](const Vec3<double>& o, const Vec3<double>& dir) { return hits_cylinder(o, dir, vd(c), vd(d), 0.04, 0.008); }, vd(c),
+                                    std::hypot(0.04, 0.008)));
         }
     }
     const OverlapSample sample = overlap_sample(prims);

@@ -4,9 +4,10 @@
 // Mesa's llvmpipe allocates its vertex and binning buffers per draw, megabytes each. With glibc's
 // defaults a block that large comes from a fresh mmap and goes back to the system when freed, so
 // every frame faults its pages in again, on the thread that runs the vertex stage. In a virtual
-// machine a page fault costs microseconds: the same frame of 10k spheres took 63-66 ms against
-// 44-52 ms once freed blocks stay in the heap (`quadcast render --frames 9` on the scene of
-// `bench spheres`, 1024x768, Mesa 22.3 llvmpipe, 2 cores). glibc raises its mmap threshold by
+// machine a page fault costs microseconds: the same frame of 10k spheres without a cull pass took
+// 56-66 ms against 44-52 ms once freed blocks stay in the heap (`quadcast render --frames 9` on the
+// scene of `bench spheres`, 1024x768, Mesa 22.3 llvmpipe, 2 cores; the ranges are over one day's
+// runs as the machine's load varied, 56 against 44 ms in one interleaved run). glibc raises its mmap threshold by
 // itself after freeing a large block, so a process that happened to free one first was fast and
 // one that had not was slow.
 //

@@ -53,20 +53,20 @@ public:
     /// default) or, off, over their axis-aligned rectangle (`primitive_rect`). The same picture;
     /// a benchmark switch.
     void set_slab_quads(bool on);
-    /// With RenderOptions::occlusion_culling, the fragment stage first compares the primitive's
+    /// In frames that run the cull pass (RenderOptions::occlusion_culling, `cull_pass_ran`), the fragment stage first compares the primitive's
     /// nearest view distance with the cull pass's occluder depth at the pixel and discards the
     /// fragment before casting its ray when the primitive lies behind (on by default; not for the
     /// sphere variant, whose cast is about as cheap as the test, nor the planes variant). The same
     /// picture; a benchmark switch.
     void set_early_discard(bool on);
-    /// With RenderOptions::occlusion_culling, a compute pass after the compaction computes, for the
+    /// In frames that run the cull pass (`cull_pass_ran`), a compute pass after the compaction computes, for the
     /// kept primitives only and on all threads, the clip positions of each one's four corners and
     /// its nearest view distance (the vertex stage's per-primitive work, from the same traced
     /// kernels), and the vertex stage only fetches them; off (the default), the vertex stage
     /// computes them, once per corner. The same picture; a benchmark switch. Off by default
     /// because it did not pay on llvmpipe: `quadcast bench spheres` / `bench sticks`, column 'comp'.
     void set_compute_bounds(bool on);
-    /// With RenderOptions::occlusion_culling, the occluders reach the cull pass's depth image by a
+    /// In frames that run the cull pass (`cull_pass_ran`), the occluders reach its depth image by a
     /// compute pass that writes each occluder's disks pixel by pixel (the default), or, on, drawn by
     /// the rasteriser into the depth buffer first (one quadrilateral per record,
     /// `quadcast::occluder_corner`: a square inside a sphere's disk, a rectangle along a stick's
@@ -104,9 +104,11 @@ public:
     /// Draws every variant's primitives with the forward or geometry-buffer programs into the
     /// bound framebuffer (a host application's own: its viewport and depth test, the caller's
     /// clears; the depth written is each surface's own window depth under `cam`), then the other
-    /// passes (`add_pass`). With opt.occlusion_culling the cull pass runs first, as in `draw`
-    /// (frustum culling and occlusion by these primitives' own occluders, in one phase; the same
-    /// picture), and `drawn_primitives`, `frustum_culled`, `occluded` count its outcome. Shadows,
+    /// passes (`add_pass`). With opt.occlusion_culling the cull pass runs first where it pays, as
+    /// in `draw` (frustum culling and occlusion by these primitives' own occluders, in one phase,
+    /// where the viewport's expected overlap reaches opt.occlusion_min_overlap: no phased drawing
+    /// here, so tetrahedral pieces fall under that rule too; the same picture), and
+    /// `cull_pass_ran`, `drawn_primitives`, `frustum_culled`, `occluded` count its outcome. Shadows,
     /// outlines and the full-screen deferred shading are `draw`'s only. Leaves the GL state it
     /// sets (program, vertex array, storage-buffer bindings, depth clamp off) for the caller to restore.
     void draw_primitives(const render::Camera& cam, const render::Light& light, const render::RenderOptions& opt, bool deferred);

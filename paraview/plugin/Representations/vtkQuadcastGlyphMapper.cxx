@@ -370,7 +370,7 @@ void vtkQuadcastGlyphMapper::Render(vtkRenderer* ren, vtkActor* act) {
         if (!error.empty()) vtkErrorMacro(<< "Quadric Glyphs: " << error);
         return;
     }
-    options.occlusion_culling = true;  // (frustum and occlusion culling among the glyphs; the same picture)
+    options.occlusion_culling = true;  // (frustum and occlusion culling among the glyphs where their expected overlap reaches RenderOptions::occlusion_min_overlap; the same picture)
 
     SavedState saved(in.gl.api());
     try {

@@ -198,7 +198,7 @@ void vtkQuadcastTetraIsosurfaceMapper::Render(vtkRenderer* ren, vtkActor* act) {
         return;
     }
     options.culling = false;           // (isosurface pieces have no outside: either side may face the eye, as the MSH scenes draw them)
-    options.occlusion_culling = true;  // (frustum and occlusion culling among the pieces; the same picture)
+    options.occlusion_culling = true;  // (frustum and occlusion culling among the pieces where their expected overlap reaches RenderOptions::occlusion_min_overlap; the same picture)
     quadcast_paraview::SavedState saved(in.gl.api());
     try {
         renderer->draw_primitives(camera, light, options, false);
