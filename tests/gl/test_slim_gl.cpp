@@ -31,7 +31,8 @@ double angle_deg(const Vec3<double>& a, const Vec3<double>& b) {
 
 /// A SLIM surface of `pts` built at relative error `error`, in the frame of a w x h view of the
 /// origin from (0.8, 1.1, 3.6) (perspective) or from (0, 0.3, 4) (orthographic).
-render::Frame slim_frame(const slim::OrientedPoints& pts, double error, bool ortho, bool culling, int w, int h, double* E) {
+render::Frame slim_frame(const slim::OrientedPoints& pts, double error, bool ortho, bool culling, int w, int h, double* E, double near = 0.5,
+                         double far = 20.0) {
     slim::BuildOptions opt;
     opt.error = error;
     const slim::BuildResult b = slim::build(pts, opt);
@@ -43,8 +44,8 @@ render::Frame slim_frame(const slim::OrientedPoints& pts, double error, bool ort
     s.slims.push_back(m);
     s.camera.eye = ortho ? Vec3d{{0.0, 0.3, 4.0}} : Vec3d{{0.8, 1.1, 3.6}};
     s.camera.target = Vec3d{{0.0, 0.0, 0.0}};
-    s.camera.near = 0.5;
-    s.camera.far = 20.0;
+    s.camera.near = near;
+    s.camera.far = far;
     s.camera.fov_y_deg = 40.0;
     s.camera.projection = ortho ? scene::Projection::orthographic : scene::Projection::perspective;
     s.camera.height = 3.0;
@@ -144,6 +145,38 @@ TEST_CASE("the GL SLIM renderer blends what the CPU reference blends, on the exa
         CHECK(coverage16 <= d.covered / 200);
         CHECK(max_angle16 < 0.5);
         CHECK(max_depth16 < 1e-3);
+    }
+}
+
+TEST_CASE("the GL SLIM renderer and the CPU reference agree where the near and far planes cut the surface") {
+    // The unit sphere's front sheet lies 2.85 to 3.7 from the eye: near and far planes through it.
+    // Beside the far plane every pushed visibility depth is clamped to 1, which GL_LESS leaves
+    // unwritten, and GL_LEQUAL against the cleared 1 then blends every hit in front of the far
+    // plane; the CPU reference once skipped such pixels (a ring of the sphere's rim missing).
+    gl::OsmesaContext ctx;
+    const int w = 160, h = 120;
+    const slim::OrientedPoints pts = slim::testing::ellipsoid_points(Vec3d{{0.0, 0.0, 0.0}}, Vec3d{{1.0, 1.0, 1.0}}, 4000, 7);
+    struct Planes {
+        double near, far;
+    };
+    for (const Planes pl : {Planes{0.5, 3.2}, Planes{3.0, 20.0}, Planes{3.0, 3.4}}) {
+        for (const bool culling : {true, false}) {
+            CAPTURE(pl.near);
+            CAPTURE(pl.far);
+            CAPTURE(culling);
+            double E = 0;
+            const render::Frame fr = slim_frame(pts, 1e-3, false, culling, w, h, &E, pl.near, pl.far);
+            const render::Image cpu = render::render_slim_cpu(fr.slim_balls, fr.camera, fr.light, fr.options);
+            const GlSlim g = draw_gl(ctx, fr, 32);
+            const qc_render_test::ImageDiff d = qc_render_test::image_diff(g.image, cpu, 1);
+            std::printf("[slim gl] sphere, near %g, far %g, culling %s: %ld covered px, GL vs CPU: %ld coverage differences, %ld colour differences > 1 LSB, "
+                        "max depth difference %.3g\n",
+                        pl.near, pl.far, culling ? "on" : "off", d.covered, d.coverage_diff, d.color_diff, d.max_depth);
+            CHECK(d.covered > w * h / 20);
+            CHECK(d.coverage_diff <= d.covered / 500);
+            CHECK(d.color_diff <= d.covered / 200);
+            CHECK(d.max_depth < 1e-5);
+        }
     }
 }
 

@@ -104,15 +104,19 @@ inline Image render_slim_cpu(const std::vector<Primitive>& balls, const Camera& 
                 auto inside = [&](const PixelRect& r) { return x >= r.x0 && x <= r.x1 && y >= r.y0 && y <= r.y1; };
                 // Visibility: the smallest pushed depth (GL_LESS against a cleared 1)
                 float vis = 1.0f;
+                bool any = false;
                 for (std::uint32_t i : bin) {
                     if (!inside(rects[i])) continue;
                     const SlimFragment<float> s = slim_cast(balls[i], ray, f, options.culling);
+                    any = any || s.hit;
                     if (s.hit && s.visibility < vis) vis = s.visibility;
                 }
-                // Accumulation: every hit at or before it (GL_LEQUAL), in ball order
+                // Accumulation: every hit at or before it (GL_LEQUAL), in ball order. Where every
+                // pushed depth lies at or beyond the far plane (clamped to 1, which GL_LESS does not
+                // write) vis stays 1 and every hit in front of the far plane is added, as in GL.
                 SlimSums<float> sums;
                 int blended = 0;
-                if (vis < 1.0f)
+                if (any)
                     for (std::uint32_t i : bin) {
                         if (!inside(rects[i])) continue;
                         const SlimFragment<float> s = slim_cast(balls[i], ray, f, options.culling);
