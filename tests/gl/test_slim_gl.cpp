@@ -149,7 +149,8 @@ TEST_CASE("the GL SLIM renderer blends what the CPU reference blends, on the exa
 }
 
 TEST_CASE("the GL SLIM renderer and the CPU reference agree where the near and far planes cut the surface") {
-    // The unit sphere's front sheet lies 2.85 to 3.7 from the eye: near and far planes through it.
+    // The unit sphere's front sheet lies 2.85 to 3.7 from the perspective eye and 3.0 to 4.0 along
+    // the orthographic view: near and far planes through it.
     // Beside the far plane every pushed visibility depth is clamped to 1, which GL_LESS leaves
     // unwritten, and GL_LEQUAL against the cleared 1 then blends every hit in front of the far
     // plane; the CPU reference once skipped such pixels (a ring of the sphere's rim missing).
@@ -157,21 +158,23 @@ TEST_CASE("the GL SLIM renderer and the CPU reference agree where the near and f
     const int w = 160, h = 120;
     const slim::OrientedPoints pts = slim::testing::ellipsoid_points(Vec3d{{0.0, 0.0, 0.0}}, Vec3d{{1.0, 1.0, 1.0}}, 4000, 7);
     struct Planes {
+        bool ortho;
         double near, far;
     };
-    for (const Planes pl : {Planes{0.5, 3.2}, Planes{3.0, 20.0}, Planes{3.0, 3.4}}) {
+    for (const Planes pl : {Planes{false, 0.5, 3.2}, Planes{false, 3.0, 20.0}, Planes{false, 3.0, 3.4}, Planes{true, 0.5, 3.4}, Planes{true, 3.2, 3.6}}) {
         for (const bool culling : {true, false}) {
+            CAPTURE(pl.ortho);
             CAPTURE(pl.near);
             CAPTURE(pl.far);
             CAPTURE(culling);
             double E = 0;
-            const render::Frame fr = slim_frame(pts, 1e-3, false, culling, w, h, &E, pl.near, pl.far);
+            const render::Frame fr = slim_frame(pts, 1e-3, pl.ortho, culling, w, h, &E, pl.near, pl.far);
             const render::Image cpu = render::render_slim_cpu(fr.slim_balls, fr.camera, fr.light, fr.options);
             const GlSlim g = draw_gl(ctx, fr, 32);
             const qc_render_test::ImageDiff d = qc_render_test::image_diff(g.image, cpu, 1);
-            std::printf("[slim gl] sphere, near %g, far %g, culling %s: %ld covered px, GL vs CPU: %ld coverage differences, %ld colour differences > 1 LSB, "
+            std::printf("[slim gl] sphere, %s, near %g, far %g, culling %s: %ld covered px, GL vs CPU: %ld coverage differences, %ld colour differences > 1 LSB, "
                         "max depth difference %.3g\n",
-                        pl.near, pl.far, culling ? "on" : "off", d.covered, d.coverage_diff, d.color_diff, d.max_depth);
+                        pl.ortho ? "orthographic" : "perspective", pl.near, pl.far, culling ? "on" : "off", d.covered, d.coverage_diff, d.color_diff, d.max_depth);
             CHECK(d.covered > w * h / 20);
             CHECK(d.coverage_diff <= d.covered / 500);
             CHECK(d.color_diff <= d.covered / 200);
