@@ -1,7 +1,8 @@
 // The expected overlap the GL renderer decides on whether to run its cull pass
 // (render::expected_overlap, quadcast/render/occluder.hpp), against pixel counts of the exact
 // shapes: each pixel centre's ray, built here from the camera's eye, basis and field of view (not
-// from its matrices), tested in double against the sphere or the capped cylinder.
+// from its matrices), tested in long double against the sphere or the capped cylinder
+// (render_testing.hpp's `sphere_hit`, `cylinder_hit`).
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -84,40 +85,17 @@ struct TestView {
     }
 };
 
-/// Whether the ray o + t d (|d| = 1), t > 0, meets the ball (c, r).
+/// Whether the ray o + t d, t > 0, meets the ball (c, r) (`qc_render_test::sphere_hit`, long double).
 bool hits_ball(const Vec3<double>& o, const Vec3<double>& d, const Vec3<double>& c, double r) {
-    const Vec3<double> oc = o - c;
-    const double b = dot(oc, d), k = dot(oc, oc) - r * r, disc = b * b - k;
-    return disc >= 0.0 && -b + std::sqrt(disc) > 0.0;
+    using namespace qc_render_test;
+    return sphere_hit(ld(o), ld(d), ld(c), r) > 0;
 }
 
-/// Whether the ray meets the solid capped cylinder of radius r around the segment c +- h a (|a| = 1).
+/// Whether the ray meets the solid capped cylinder of radius r around the segment c +- h a (|a| = 1)
+/// (`qc_render_test::cylinder_hit`, long double).
 bool hits_cylinder(const Vec3<double>& o, const Vec3<double>& d, const Vec3<double>& c, const Vec3<double>& a, double h, double r) {
-    const Vec3<double> oc = o - c;
-    const double ad = dot(a, d), ao = dot(a, oc);
-    // The slab |a.x| <= h: ray parameters [t0, t1].
-    double t0 = -1e300, t1 = 1e300;
-    if (std::fabs(ad) > 0.0) {
-        const double ta = (-h - ao) / ad, tb = (h - ao) / ad;
-        t0 = std::min(ta, tb);
-        t1 = std::max(ta, tb);
-    } else if (std::fabs(ao) > h) {
-        return false;
-    }
-    // The infinite cylinder: |x - (a.x) a|^2 <= r^2, a quadratic in t.
-    const Vec3<double> dp = d - a * ad, op = oc - a * ao;
-    const double A = dot(dp, dp), B = dot(op, dp), C = dot(op, op) - r * r;
-    double s0 = -1e300, s1 = 1e300;
-    if (A > 0.0) {
-        const double disc = B * B - A * C;
-        if (disc < 0.0) return false;
-        s0 = (-B - std::sqrt(disc)) / A;
-        s1 = (-B + std::sqrt(disc)) / A;
-    } else if (C > 0.0) {
-        return false;
-    }
-    const double lo = std::max(t0, s0), hi = std::min(t1, s1);
-    return lo <= hi && hi > 0.0;
+    using namespace qc_render_test;
+    return cylinder_hit(ld(o), ld(d), ld(c), ld(a), r, h) > 0;
 }
 
 Vec3<double> vd(const glm::vec3& v) { return {{v.x, v.y, v.z}}; }
