@@ -162,13 +162,13 @@ inline OverlapSample overlap_sample(const std::vector<Primitive>& prims, std::si
 /// foreshortening across the capsule is left out). That area times the share of the capsule's
 /// screen box inside the viewport. A capsule behind the eye plane covers nothing; one reaching
 /// to it (a perspective camera inside or beside it) counts as the whole viewport.
-inline double capsule_pixels(const Camera& cam, int width, int height, const std::array<float, 7>& c) {
-    const Mat4<double> view = cast<double>(cam.view), proj = cast<double>(cam.projection);
+/// `view` and `proj` are the camera's matrices in double (`expected_overlap` casts them once).
+inline double capsule_pixels(const Mat4<double>& view, const Mat4<double>& proj, bool orthographic, int width, int height, const std::array<float, 7>& c) {
     const Vec4<double> vc = view * Vec4<double>{{c[0], c[1], c[2], 1.0}};
     const Vec4<double> va = view * Vec4<double>{{c[3], c[4], c[5], 0.0}};
     const double rho = c[6], half = std::sqrt(va[0] * va[0] + va[1] * va[1] + va[2] * va[2]);
     const double W = width, H = height;
-    if (!cam.orthographic) {
+    if (!orthographic) {
         const double s = -vc[2], reach = rho + half;
         if (s < -reach) return 0.0;
         if (s <= reach) return W * H;
@@ -187,13 +187,17 @@ inline double capsule_pixels(const Camera& cam, int width, int height, const std
     };
     return std::min(area * inside(cx, ex, W) * inside(cy, ey, H), W * H);
 }
+inline double capsule_pixels(const Camera& cam, int width, int height, const std::array<float, 7>& c) {
+    return capsule_pixels(cast<double>(cam.view), cast<double>(cam.projection), cam.orthographic, width, height, c);
+}
 
 /// The expected overlap of a frame: the sample's covered pixels (`capsule_pixels`) times its
 /// weight, over the viewport's pixels. 0 for an empty sample or viewport.
 inline double expected_overlap(const OverlapSample& s, const Camera& cam, int width, int height) {
     if (s.capsules.empty() || width <= 0 || height <= 0) return 0.0;
+    const Mat4<double> view = cast<double>(cam.view), proj = cast<double>(cam.projection);
     double sum = 0.0;
-    for (const auto& c : s.capsules) sum += capsule_pixels(cam, width, height, c);
+    for (const auto& c : s.capsules) sum += capsule_pixels(view, proj, cam.orthographic, width, height, c);
     return sum * s.weight / (double(width) * double(height));
 }
 
