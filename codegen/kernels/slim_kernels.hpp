@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cmath>
+#include <utility>
 #include <string>
 
 #include "kernels/common.hpp"
@@ -120,6 +121,72 @@ struct SlimResolveKernel {
         put(in, p, random_direction(rng));
         put(in, p, random_direction(rng));
         put(in, p, vec4(-1.002f, -0.2002f, -1.0f, 0.0f));
+    }
+};
+
+/// A random `SlimPatch` of a ball of radius r: a unit axis, rho up to r, a slab inside [-r, r]
+/// (empty in 5% of the draws), a cone of 0-90 degrees.
+inline void put_slim_patch(std::mt19937& rng, std::span<float> in, std::size_t& p, float r) {
+    put(in, p, vec4(random_direction(rng), uniform(rng, 0.0f, r)));
+    float lo = uniform(rng, -r, r), hi = uniform(rng, -r, r);
+    if (lo > hi && uniform(rng, 0.0f, 1.0f) < 0.95f) std::swap(lo, hi);
+    const float theta = uniform(rng, 0.0f, 1.5707963f);
+    put(in, p, vec4(lo, hi, std::cos(theta), std::sin(theta)));
+}
+
+/// Per vertex of a SLIM ball's bounding geometry: the padded screen quadrilateral of its patch
+/// (`slim_patch_quad`), and whether it is tight and visible.
+struct SlimPatchQuadKernel {
+    static constexpr const char* name = "slim_patch_quad";
+    static constexpr const char* source = "quadcast::slim_patch_quad (quadcast/slim_blend.hpp), quadcast::sections_quad (quadcast/bounds.hpp)";
+    static constexpr const char* summary = "SLIM ball: the screen quadrilateral of its patch's slab cylinder, along its projected axis";
+    template <class IO> static void run(IO& io) {
+        using T = typename IO::T;
+        const Mat4<T> vp = io.template mat<4>("view_projection");
+        const Vec3<T> center = io.template vec<3>("center");
+        const Vec4<T> axis_rho = io.template vec<4>("axis_rho");
+        const Vec4<T> slab_cone = io.template vec<4>("slab_cone");
+        const Vec2<T> viewport = io.template vec<2>("viewport");
+        const ScreenQuad<T> r = slim_patch_quad(vp, center, axis_rho, slab_cone, viewport);
+        io.out("c0", r.corner[0]);
+        io.out("c1", r.corner[1]);
+        io.out("c2", r.corner[2]);
+        io.out("c3", r.corner[3]);
+        io.out("tight", r.tight);
+        io.out("visible", r.visible);
+    }
+    static void generate(std::mt19937& rng, std::span<float> in) {
+        std::size_t p = 0;
+        put_view_projection(rng, in, p);
+        put(in, p, random_point(rng, 50.0f));
+        put_slim_patch(rng, in, p, uniform(rng, 0.05f, 3.0f));
+        put(in, p, vec2(1024.0f, 768.0f));
+    }
+};
+
+/// Per SLIM ball: whether its whole patch faces away from the camera's rays
+/// (`slim_patch_culled`); `fixed` is the eye (perspective) or the rays' direction (orthographic).
+template <bool Ortho>
+struct SlimPatchCullKernel {
+    static constexpr const char* name = Ortho ? "slim_patch_cull_ortho" : "slim_patch_cull_perspective";
+    static constexpr const char* source = "quadcast::slim_patch_culled (quadcast/slim_blend.hpp)";
+    static constexpr const char* summary = "SLIM ball: its patch faces away from every ray (normal cone against the rays' directions)";
+    template <class IO> static void run(IO& io) {
+        using T = typename IO::T;
+        const Vec3<T> center = io.template vec<3>("center");
+        const T radius = io.scalar("radius");
+        const Vec4<T> axis_rho = io.template vec<4>("axis_rho");
+        const Vec4<T> slab_cone = io.template vec<4>("slab_cone");
+        const Vec3<T> fixed = io.template vec<3>("fixed");
+        io.out("culled", slim_patch_culled<Ortho>(center, radius, axis_rho, slab_cone, fixed));
+    }
+    static void generate(std::mt19937& rng, std::span<float> in) {
+        std::size_t p = 0;
+        put(in, p, random_point(rng, 50.0f));
+        const float r = uniform(rng, 0.05f, 3.0f);
+        put(in, p, r);
+        put_slim_patch(rng, in, p, r);
+        put(in, p, Ortho ? random_direction(rng) : random_point(rng, 60.0f));
     }
 };
 

@@ -105,6 +105,9 @@ const std::vector<KernelDef>& registry() {
         make_kernel<SlimFragmentKernel<false>>(),
         make_kernel<SlimTermsKernel>(),
         make_kernel<SlimResolveKernel>(),
+        make_kernel<SlimPatchQuadKernel>(),
+        make_kernel<SlimPatchCullKernel<false>>(),
+        make_kernel<SlimPatchCullKernel<true>>(),
     };
     return all;
 }

@@ -644,8 +644,20 @@ struct ScreenQuad {
 /// at (2, 2).
 /// Numerics: as `detail::dual_span`; u normalised by `normalize`.
 template <class T>
+ScreenQuad<T> sections_quad(const Mat4<T>& view_projection, const Vec3<T>& center, const Vec3<T>& axis, const DualBound<T>& d0,
+                            const DualBound<T>& d1, const Vec2<T>& viewport);
+
+template <class T>
 ScreenQuad<T> slab_quad(const Mat4<T>& view_projection, const Quadric<T>& q, const Vec3<T>& center, const Vec3<T>& axis,
                         const T& half_length, const Vec2<T>& viewport) {
+    return sections_quad(view_projection, center, axis, slab_cap_dual(q, axis, half_length), slab_cap_dual(q, axis, -half_length), viewport);
+}
+
+/// `slab_quad`'s quadrilateral for any two sections d0, d1 (convex bounds in local coordinates)
+/// along `axis`: the sides of their convex hull supported along the projected axis and across it.
+template <class T>
+ScreenQuad<T> sections_quad(const Mat4<T>& view_projection, const Vec3<T>& center, const Vec3<T>& axis, const DualBound<T>& d0,
+                            const DualBound<T>& d1, const Vec2<T>& viewport) {
     // Pull the clip-space rows back to local coordinates
     const Vec4<T> r1 = detail::local_clip_row(view_projection, center, 0);
     const Vec4<T> r2 = detail::local_clip_row(view_projection, center, 1);
@@ -663,8 +675,6 @@ ScreenQuad<T> slab_quad(const Mat4<T>& view_projection, const Quadric<T>& q, con
     const Vec4<T> ru = r1 * (u[0] * half_w) + r2 * (u[1] * half_h);
     const Vec4<T> rv = r1 * (v[0] * half_w) + r2 * (v[1] * half_h);
     // Bound both directions over both sections
-    const DualBound<T> d0 = slab_cap_dual(q, axis, half_length);
-    const DualBound<T> d1 = slab_cap_dual(q, axis, -half_length);
     T lo[2][2], hi[2][2], b0[2][2];
     mask_t<T> clear[2][2];
     detail::dual_span(ru, r4, d0, lo[0][0], hi[0][0], b0[0][0], clear[0][0]);

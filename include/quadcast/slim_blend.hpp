@@ -13,6 +13,7 @@
 // The same templates run on the CPU (quadcast/render/slim_cpu_renderer.hpp) and, traced, in the
 // GL stages (codegen/kernels/slim_kernels.hpp).
 
+#include "quadcast/bounds.hpp"
 #include "quadcast/linalg.hpp"
 #include "quadcast/raycast.hpp"
 #include "quadcast/scalar.hpp"
@@ -95,6 +96,71 @@ SlimFragment<T> slim_fragment(const ClippedQuadric<T>& p, const LocalRay<T>& r, 
     const T len = sqrt(select(ok_n, n2, T(1)));
     const Vec3<T> n = select(ok_n, h.normal / len, vec3(T(0), T(0), T(1)));
     return {(h.hit && depth >= T(0)) && depth <= T(1), depth, min(pushed, T(1)), h.lambda, n, w};
+}
+
+/// A bound of the part of a SLIM ball that can be hit, its patch: the zero set of the quadric in
+/// the ball, on the kept side of its clip plane (quadcast/render/slim_patch.hpp computes it once
+/// per ball, by interval subdivision). In the ball's local coordinates x (x_world - centre), with
+/// a unit axis a:
+///   the slab       lo <= a . x <= hi over the patch (lo > hi: the patch is empty), so the patch
+///                  lies in the cylinder of radius rho around a between the two planes;
+///   the normal cone  every gradient of the quadric on the patch makes an angle of at most theta
+///                  with a (cos theta, sin theta; (0, 1) when that bound is 90 degrees or more).
+/// The renderers draw a ball over `slim_patch_quad` instead of its sphere's quad and skip it
+/// where `slim_patch_culled` shows the whole patch facing away from the eye.
+template <class T>
+struct SlimPatch {
+    Vec4<T> axis_rho;   ///< a, rho
+    Vec4<T> slab_cone;  ///< lo, hi, cos theta, sin theta
+};
+
+/// The padded screen quadrilateral of a SLIM ball's patch (`SlimPatch`) under `view_projection`:
+/// `sections_quad` of the two discs of radius rho around a at a . x = lo and hi, whose convex hull
+/// is the cylinder that holds the patch (sides along the projected axis a and across it: a patch
+/// seen edge-on covers a band, not the square around it). `tight` and `visible` as
+/// `sections_quad`'s; an empty patch (lo > hi) is tight and not visible, every corner at (2, 2).
+/// Numerics: disc i: e = a z_i, W = rho^2 (I - a a^T) entry by entry ((i == j) - a_i a_j) * rho^2;
+/// `sections_quad`.
+template <class T>
+ScreenQuad<T> slim_patch_quad(const Mat4<T>& view_projection, const Vec3<T>& center, const Vec4<T>& axis_rho, const Vec4<T>& slab_cone,
+                              const Vec2<T>& viewport) {
+    const Vec3<T> a = xyz(axis_rho);
+    const T rho2 = axis_rho[3] * axis_rho[3];
+    // The two discs as dual forms
+    DualBound<T> disc[2];
+    for (int k = 0; k < 2; ++k) {
+        disc[k].e = a * slab_cone[k];
+        for (int j = 0; j < 3; ++j)
+            for (int i = 0; i < 3; ++i) disc[k].w[j][i] = (T(i == j ? 1 : 0) - a[i] * a[j]) * rho2;
+        disc[k].ok = mask_t<T>(true);
+    }
+    ScreenQuad<T> q = sections_quad(view_projection, center, a, disc[1], disc[0], viewport);
+    // An empty patch draws nothing
+    const mask_t<T> empty = slab_cone[0] > slab_cone[1];
+    q.visible = q.visible && !empty;
+    q.tight = q.tight || empty;
+    for (int i = 0; i < 4; ++i) q.corner[i] = select(empty, vec2(T(2), T(2)), q.corner[i]);
+    return q;
+}
+
+/// Whether the whole patch of a SLIM ball (`SlimPatch`) faces away from every ray of the camera,
+/// so that no front root (per-fragment culling) can lie on it. `fixed` is the eye (perspective) or
+/// the rays' direction (orthographic; `window_ray`'s `fixed`). With w = centre - eye
+/// (perspective) or the direction, and any gradient n on the patch within theta of a, a point x of
+/// the patch (|x| <= r) and its ray v = w + x: n . v >= |w| cos(angle(a, w) + theta) - r |n|. So
+/// the patch is culled when (a . w) cos theta - |a x w| sin theta > r (1 + 2^-8) + 2^-10 |w|
+/// (perspective; the eye lies outside the ball then), > 2^-10 |w| (orthographic): a margin of
+/// about 0.06 degrees for the rounding of the rays and the roots.
+/// Numerics: left-fold dots; |a x w| = sqrt(c . c).
+template <bool Ortho, class T>
+mask_t<T> slim_patch_culled(const Vec3<T>& center, const T& radius, const Vec4<T>& axis_rho, const Vec4<T>& slab_cone, const Vec3<T>& fixed) {
+    const Vec3<T> a = xyz(axis_rho);
+    const Vec3<T> w = Ortho ? fixed : center - fixed;
+    const Vec3<T> c = cross(a, w);
+    const T m = dot(a, w) * slab_cone[2] - sqrt(dot(c, c)) * slab_cone[3];
+    const T margin = sqrt(dot(w, w)) * T(0.0009765625);
+    if constexpr (Ortho) return m > margin;
+    else return m > radius * T(1.00390625) + margin;
 }
 
 /// A SLIM pixel after the accumulation: sums over the blended fragments, in their order.

@@ -12,6 +12,7 @@
 #include "quadcast/gl/loader.hpp"
 #include "quadcast/render/record.hpp"
 #include "quadcast/render/slim_cpu_renderer.hpp"
+#include "quadcast/render/slim_patch.hpp"
 #include "quadcast/render/window_ray.hpp"
 
 namespace quadcast::gl {
@@ -22,15 +23,15 @@ public:
         api.GenVertexArrays(1, &vao_);
         api.GenBuffers(1, &records_);
         api.GenBuffers(1, &planes_);
+        api.GenBuffers(1, &patches_);
         api.GenBuffers(1, &indices_);
-        api.GenBuffers(1, &visible_);
     }
     ~Impl() {
         release_targets();
         api_->DeleteBuffers(1, &records_);
         api_->DeleteBuffers(1, &planes_);
+        api_->DeleteBuffers(1, &patches_);
         api_->DeleteBuffers(1, &indices_);
-        api_->DeleteBuffers(1, &visible_);
         api_->DeleteVertexArrays(1, &vao_);
     }
     Impl(const Impl&) = delete;
@@ -60,6 +61,7 @@ public:
             }
         }
         count_ = balls.size();
+        const std::vector<SlimPatch<float>> patches = render::slim_patches(balls);
         auto upload = [&](GLenum target, GLuint buf, std::size_t bytes, const void* data) {
             gl.BindBuffer(target, buf);
             gl.BufferData(target, static_cast<GLsizeiptr>(std::max<std::size_t>(bytes, 16)), bytes ? data : nullptr, GL_STATIC_DRAW);
@@ -67,7 +69,7 @@ public:
         };
         upload(GL_SHADER_STORAGE_BUFFER, records_, records.size() * sizeof(records[0]), records.data());
         upload(GL_SHADER_STORAGE_BUFFER, planes_, planes.size() * sizeof(float), planes.data());
-        upload(GL_SHADER_STORAGE_BUFFER, visible_, 16, nullptr);
+        upload(GL_SHADER_STORAGE_BUFFER, patches_, patches.size() * sizeof(patches[0]), patches.data());
         // Two triangles per bounding quad over its 4 corners (as the quadric renderer draws them).
         std::vector<std::uint32_t> idx;
         idx.reserve(6 * count_);
@@ -99,12 +101,12 @@ public:
         gl.BindVertexArray(vao_);
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, records_);
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, planes_);
-        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, visible_);
+        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, patches_);
         gl.Enable(GL_DEPTH_TEST);
         gl.DepthFunc(GL_LESS);
         gl.DepthMask(GL_TRUE);
         gl.ColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-        draw_balls(programs_.get(render::SlimKey{render::SlimPass::visibility, cull, cam.orthographic}), cam, viewport, cull);
+        draw_balls(programs_.get(render::SlimKey{render::SlimPass::visibility, cull, cam.orthographic}), cam, viewport, opt);
         gl.ColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
         // The shadow map's pass (a framebuffer without colour) needs the depth only.
         GLint color_type = GL_NONE;
@@ -127,7 +129,7 @@ public:
         gl.Enable(GL_BLEND);
         gl.BlendEquation(GL_FUNC_ADD);
         gl.BlendFunc(GL_ONE, GL_ONE);
-        draw_balls(programs_.get(render::SlimKey{render::SlimPass::accumulate, cull, cam.orthographic}), cam, viewport, cull);
+        draw_balls(programs_.get(render::SlimKey{render::SlimPass::accumulate, cull, cam.orthographic}), cam, viewport, opt);
         gl.Disable(GL_BLEND);
         gl.DepthMask(GL_TRUE);
         // 3. Resolve into the caller's geometry buffer and depth, where the weight is > 0.
@@ -166,22 +168,20 @@ private:
         const Api& gl = *api_;
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, 0);
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, 0);
-        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, 0);
+        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, 0);
         gl.UseProgram(0);
     }
 
-    /// Every ball's bounding quad with program `p`: the quadric renderer's vertex-stage uniforms
-    /// (sphere quads: qc_bound 0; per-quadric culling for perspective cameras), then the ray terms.
-    void draw_balls(const Program& p, const render::Camera& cam, const GLint* viewport, bool cull) {
+    /// Every ball with program `p`: over its patch's rectangle (`RenderOptions::tight_bounds`) or its
+    /// bounding sphere's quad; with `RenderOptions::culling`, per-quadric culling (perspective
+    /// cameras) and, with tight bounds, the patch's normal cone.
+    void draw_balls(const Program& p, const render::Camera& cam, const GLint* viewport, const render::RenderOptions& opt) {
         const Api& gl = *api_;
         gl.UseProgram(p.id());
         detail::set_camera_uniforms(gl, p, cam, viewport[2], viewport[3]);
-        gl.Uniform1i(p.uniform_location("qc_bound"), 0);
-        gl.Uniform1i(p.uniform_location("qc_cull"), cull && !cam.orthographic ? 1 : 0);
-        gl.Uniform1ui(p.uniform_location("qc_first"), 0);
-        gl.Uniform1i(p.uniform_location("qc_caps"), 0);
-        gl.Uniform1i(p.uniform_location("qc_indirect"), 0);
-        gl.Uniform1i(p.uniform_location("qc_fetch"), 0);
+        gl.Uniform1i(p.uniform_location("qc_cull"), opt.culling && !cam.orthographic ? 1 : 0);
+        gl.Uniform1i(p.uniform_location("qc_patch"), opt.tight_bounds ? 1 : 0);
+        gl.Uniform1i(p.uniform_location("qc_patch_cull"), opt.culling && opt.tight_bounds ? 1 : 0);
         gl.DrawElements(GL_TRIANGLES, static_cast<GLsizei>(6 * count_), GL_UNSIGNED_INT, nullptr);
     }
 
@@ -225,7 +225,7 @@ private:
     }
 
     const Api* api_;
-    GLuint vao_ = 0, records_ = 0, planes_ = 0, indices_ = 0, visible_ = 0;
+    GLuint vao_ = 0, records_ = 0, planes_ = 0, patches_ = 0, indices_ = 0;
     GLuint afbo_ = 0, atex_[3] = {0, 0, 0}, depth_ = 0;
     int width_ = 0, height_ = 0, bits_ = 32;
     std::size_t count_ = 0;

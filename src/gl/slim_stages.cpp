@@ -1,8 +1,8 @@
 // src/gl/slim_stages.cpp -- the stages of the GL SLIM renderer's three passes, assembled around the generated kernels
-// (Stoll et al. 2006, sec. 5.1.1). The ball passes reuse the quadric renderer's vertex stage (the
-// bounding quad and per-quadric culling of a `bounded` record); their fragment stage casts the
+// (Stoll et al. 2006, sec. 5.1.1). The ball passes draw each ball over its patch's quadrilateral or its
+// bounding sphere's quad, culled per quadric and by its patch's normal cone; their fragment stage casts the
 // pixel's ray with `slim_fragment`. The plumbing moves data only: every number comes from a traced
-// function (`fragment_ray_*`, `slim_fragment`, `slim_terms`, `slim_resolve`).
+// function (`slim_patch_quad`, `slim_patch_cull_*`, `fragment_ray_*`, `slim_fragment`, `slim_terms`, `slim_resolve`).
 #include <sstream>
 
 #include "quadcast/gl/stages.hpp"
@@ -22,6 +22,58 @@ const char* ray_uniforms =
     "uniform vec3 qc_ray_fixed;    // the eye (perspective) or the viewing direction (orthographic)\n"
     "uniform vec3 qc_vz_row;       // third row of the world->view rotation\n"
     "uniform vec4 qc_pz;           // P22, P32, P23, P33 of the projection\n";
+
+/// The vertex stage of both ball passes: corner k of ball gl_VertexID / 4 over its patch's
+/// quadrilateral (`slim_patch_quad`, with `qc_patch`) where that is tight, else its bounding sphere's
+/// quad; a ball is sent off screen when per-quadric culling (`primitive_cull`, perspective, with
+/// `qc_cull`) or its patch's normal cone (`slim_patch_cull_*`, with `qc_patch_cull`) culls it.
+Stage ball_vertex_shader(bool ortho) {
+    Stage s;
+    std::ostringstream fns;
+    const std::string proj = ortho ? "ortho" : "perspective";
+    add_kernel(s, fns, "slim_patch_quad");
+    add_kernel(s, fns, "slim_patch_cull_" + proj);
+    add_kernel(s, fns, "primitive_bound_" + proj);
+    add_kernel(s, fns, "clip_position");
+    if (!ortho) add_kernel(s, fns, "primitive_cull");
+    std::ostringstream m;
+    m << render::record_glsl()
+      << "// Per record its patch bound (quadcast::SlimPatch): axis, rho; slab lo, hi, cone cos, sin.\n"
+         "layout(std430, binding = 2) readonly buffer qc_SlimPatches { vec4 qc_slim_patches[]; };\n"
+      << detail::bound_uniforms_glsl()
+      << "uniform vec3 qc_eye;\nuniform vec3 qc_ray_fixed;  // the eye (perspective) or the viewing direction (orthographic)\n"
+         "uniform bool qc_cull;        // per-quadric culling (perspective)\n"
+         "uniform bool qc_patch;       // draw over the patch's quadrilateral\n"
+         "uniform bool qc_patch_cull;  // cull by the patch's normal cone\n\n"
+         "flat out uint qc_prim;\n\n"
+      << fns.str()
+      << "void main()\n{\n"
+         "    uint prim = uint(gl_VertexID) / 4u;\n"
+         "    int k = gl_VertexID % 4;\n"
+         "    qc_prim = prim;\n"
+         "    qc_Primitive p = qc_prims[prim];\n"
+         "    vec4 axis_rho = qc_slim_patches[2u * prim], slab_cone = qc_slim_patches[2u * prim + 1u];\n"
+         "    vec2 qd[4];\n    bool tight = false, visible = true;\n"
+         "    if (qc_patch)\n"
+         "        qc_slim_patch_quad(qc_view_projection, qc_record_center(p), axis_rho, slab_cone, qc_viewport, qd[0], qd[1], qd[2], qd[3], tight, visible);\n"
+         "    vec4 clip;\n"
+         "    if (tight) {\n"
+         "        clip = vec4(qd[k], 0.0, 1.0);\n"
+         "    } else {\n"
+      << detail::sphere_quad_glsl(proj)
+      << "        qc_clip_position(qc_projection, valid ? corners[k] : qc_near_corners[k], clip);\n"
+         "    }\n"
+      << "    bool culled = false, culled_caps = false, patch_culled = false;\n";
+    if (!ortho)
+        m << "    if (qc_cull)\n"
+             "        qc_primitive_cull(qc_record_quadric(p), qc_record_center(p), qc_record_radius(p), qc_record_axis(p), qc_record_half_length(p), qc_eye, culled, culled_caps);\n";
+    m << "    if (qc_patch_cull)\n"
+         "        qc_slim_patch_cull_" << proj << "(qc_record_center(p), qc_record_radius(p), axis_rho, slab_cone, qc_ray_fixed, patch_culled);\n"
+         "    gl_Position = (culled || patch_culled) ? vec4(2.0, 2.0, 2.0, 1.0) : clip;\n"
+         "}\n";
+    s.text = m.str();
+    return s;
+}
 
 /// Visibility (depth only: the pushed depth) or accumulation (the fragment's terms into the three
 /// float targets, which the blender adds; the depth test against the visibility pass's depth).
@@ -116,8 +168,8 @@ std::vector<StageText> program_stages(const render::SlimKey& k) {
     }
     const std::string pass = k.pass == render::SlimPass::visibility ? "visibility" : "accumulate";
     const std::string variant = pass + (k.cull ? "" : "_nocull");
-    return {stage_text(StageText::Kind::vertex, "qc_quadric_" + proj + ".vert", detail::quadric_vertex_stage(k.ortho),
-                       "quadric renderer: vertex stage, " + proj + " camera (SLIM balls)"),
+    return {stage_text(StageText::Kind::vertex, "qc_slim_" + proj + ".vert", ball_vertex_shader(k.ortho),
+                       "SLIM renderer: vertex stage of the balls (patch quadrilateral, culling), " + proj + " camera"),
             stage_text(StageText::Kind::fragment, "qc_slim_" + variant + "_" + proj + ".frag", ball_fragment_shader(k),
                        "SLIM renderer: " + pass + " pass of the balls, " + proj + " camera")};
 }

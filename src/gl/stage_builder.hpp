@@ -54,9 +54,12 @@ inline StageText stage_text(StageText::Kind kind, const std::string& name, const
     return {kind, name, "#version 450 core\n" + banner(name, s, summary) + "\n" + s.text};
 }
 
-/// The quadric renderer's vertex stage of the general variants (src/gl/stages.cpp): the bounding
-/// geometry and per-quadric culling of one record; the SLIM passes draw their `bounded` balls with it.
-Stage quadric_vertex_stage(bool ortho);
+/// The bounding-sphere quad of record `p` (`primitive_bound_<proj>`): declares its view-space
+/// corners `corners[4]` and `valid` (false: use the near-plane rectangle `qc_near_corners`).
+std::string sphere_quad_glsl(const std::string& proj);
+
+/// The vertex stages' uniforms of the bounding geometry (view, projection, near corners, ...).
+std::string bound_uniforms_glsl();
 
 /// The full-screen triangle of the deferred and resolve passes (positions from gl_VertexID; no
 /// numbers; src/gl/stages.cpp).

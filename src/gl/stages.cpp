@@ -71,10 +71,7 @@ std::string bound_glsl(const std::string& proj, bool rects, bool all_corners = f
              "        qc_primitive_quad_tetra(qc_view_projection, pl.p[0], pl.p[1], pl.p[2], pl.p[3], qc_record_center(p), qc_viewport, qd[0], qd[1], qd[2], qd[3], tight, visible);\n"
              "    }\n"
              "    bool quad = (qc_bound == 2 && qc_slab_quad) || qc_bound == 3;\n";
-    // The sphere's quad, when it is used: its four view-space corners (the near-plane rectangle where not valid).
-    const std::string sphere_quad = std::string("        vec3 c0, c1, c2, c3;\n        bool valid;\n"
-         "        qc_primitive_bound_") + proj + "(qc_view, qc_record_center(p), qc_record_radius(p), c0, c1, c2, c3, valid);\n"
-         "        vec3 corners[4] = vec3[4](c0, c1, c2, c3);\n";
+    const std::string sphere_quad = detail::sphere_quad_glsl(proj);
     if (all_corners) {
         m << "    vec4 clips[4];\n";
         if (rects)
@@ -862,7 +859,13 @@ std::vector<StageText> program_stages(const render::DeferredKey& k) {
 
 namespace quadcast::gl::detail {
 
-Stage quadric_vertex_stage(bool ortho) { return vertex_shader(ortho); }
+std::string sphere_quad_glsl(const std::string& proj) {
+    return std::string("        vec3 c0, c1, c2, c3;\n        bool valid;\n        qc_primitive_bound_") + proj +
+           "(qc_view, qc_record_center(p), qc_record_radius(p), c0, c1, c2, c3, valid);\n"
+           "        vec3 corners[4] = vec3[4](c0, c1, c2, c3);\n";
+}
+
+std::string bound_uniforms_glsl() { return bound_uniforms; }
 
 const char* const fullscreen_vertex =
     "void main()\n{\n"

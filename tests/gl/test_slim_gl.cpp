@@ -273,3 +273,59 @@ TEST_CASE("the GL SLIM renderer covers a closed mesh's pixels, up to a band of 2
         CHECK(c.beyond_band == 0);
     }
 }
+
+TEST_CASE("the GL SLIM renderer draws the same image over its balls' patch quadrilaterals as over their sphere quads") {
+    // tests/slim/patch.cpp checks the bounds against long-double samples of the patches; here the
+    // whole GL frame: tight bounds on and off, so patch quads and normal-cone culling against the
+    // sphere quads and per-quadric culling alone.
+    gl::OsmesaContext ctx;
+    slim::BuildOptions opt;
+    opt.error = 3e-3;
+    const slim::BuildResult built = slim::build(slim::read_points(std::string(QUADCAST_SLIM_TEST_DATA) + "/bunny_3k.off"), opt);
+    const int w = 200, h = 150;
+    for (bool ortho : {false, true})
+        for (bool culling : {true, false}) {
+            CAPTURE(ortho);
+            CAPTURE(culling);
+            scene::Scene sc;
+            scene::Slim m;
+            m.balls = slim::scene_balls(built.model);
+            sc.slims.push_back(m);
+            sc.camera = scene::fit_camera(sc.bounds());
+            if (ortho) {
+                sc.camera.projection = scene::Projection::orthographic;
+                sc.camera.height = 0.6 * length(sc.bounds().hi - sc.bounds().lo);
+            }
+            sc.options.culling = culling;
+            sc.lights.push_back(scene::Light{});
+            render::Frame fr = render::build_frame(sc, w, h);
+            std::uint64_t invocations[2] = {0, 0};
+            GlSlim g[2];
+            for (int tight = 0; tight < 2; ++tight) {
+                fr.options.tight_bounds = tight == 1;
+                gl::QuadricRenderer r(ctx.api());
+                gl::SlimRenderer s(ctx.api());
+                r.set_primitives({});
+                s.set_balls(fr.slim_balls);
+                r.add_pass(s);
+                r.set_count_fragments(true);
+                r.draw(fr.camera, fr.light, fr.options);
+                g[tight].image = r.read();
+                s.read_sums(g[tight].nw, g[tight].lm);
+                invocations[tight] = r.fragment_invocations();
+            }
+            const qc_render_test::ImageDiff d = qc_render_test::image_diff(g[1].image, g[0].image, 0);
+            std::printf("[slim gl] reduced bunny, %s, culling %s: %zu balls, %ld covered px; patch quads against sphere quads: %ld coverage, %ld colour "
+                        "differences, max depth difference %.3g, sums %s; fragment-shader invocations %llu against %llu (%.2fx)\n",
+                        ortho ? "orthographic" : "perspective", culling ? "on" : "off", fr.slim_balls.size(), d.covered, d.coverage_diff, d.color_diff,
+                        d.max_depth, g[1].nw == g[0].nw && g[1].lm == g[0].lm ? "bit-identical" : "DIFFER", (unsigned long long)invocations[1],
+                        (unsigned long long)invocations[0], double(invocations[0]) / double(std::max<std::uint64_t>(invocations[1], 1)));
+            CHECK(d.covered > 3000);
+            CHECK(d.coverage_diff == 0);
+            CHECK(d.color_diff == 0);
+            CHECK(d.max_depth == 0.0);
+            CHECK(g[1].nw == g[0].nw);
+            CHECK(g[1].lm == g[0].lm);
+            CHECK(invocations[1] < invocations[0]);
+        }
+}

@@ -128,12 +128,14 @@ std::size_t active_cubes(const std::vector<render::VolumeModel>& volumes) {
     return n;
 }
 
-/// The CPU reference: primitives (if any), then the SLIM surfaces and the volumes composited by depth.
-render::Image render_scene_cpu(const render::Frame& fr, const std::vector<render::VolumeModel>& volumes, render::FrameStats* st) {
+/// The CPU reference: primitives (if any), then the SLIM surfaces (bound by `patches`, the balls'
+/// `slim_patches`, computed once per scene) and the volumes composited by depth.
+render::Image render_scene_cpu(const render::Frame& fr, const std::vector<SlimPatch<float>>& patches, const std::vector<render::VolumeModel>& volumes,
+                               render::FrameStats* st) {
     render::Image img;
     if (!fr.primitives.empty() || volumes.empty()) img = render::render_cpu(fr.primitives, fr.camera, fr.light, fr.options, st);
     if (!fr.slim_balls.empty()) {
-        const render::Image s = render::render_slim_cpu(fr.slim_balls, fr.camera, fr.light, fr.options);
+        const render::Image s = render::render_slim_cpu(fr.slim_balls, fr.camera, fr.light, fr.options, nullptr, 0, &patches);
         if (img.rgba.empty()) img = s;
         else render::composite_by_depth(img, s);
     }
@@ -230,13 +232,14 @@ int run_render(const RenderArgs& a) {
     render::Image img;
     if (a.cpu) {
         render::FrameStats st;
-        img = render_scene_cpu(fr, volumes, &st);
+        const std::vector<SlimPatch<float>> patches = render::slim_patches(fr.slim_balls);
+        img = render_scene_cpu(fr, patches, volumes, &st);
         timer.phase("draw");
         if (a.frames > 0) {
             std::vector<double> ms;
             for (int i = 0; i < a.frames; ++i) {
                 const auto t0 = std::chrono::steady_clock::now();
-                img = render_scene_cpu(fr, volumes, nullptr);
+                img = render_scene_cpu(fr, patches, volumes, nullptr);
                 ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
             }
             std::printf("%s: %zu primitives, %zu volume(s) (%zu active cubes), %dx%d, median frame %.2f ms over %d frames (CPU reference), %llu casts, %llu culled\n",

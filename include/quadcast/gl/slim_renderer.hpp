@@ -2,8 +2,10 @@
 #pragma once
 // Host-only. A ScenePass of the QuadricRenderer (`QuadricRenderer::add_pass`): in its geometry
 // buffer pass it draws
-//   1. visibility   every ball's quadric in its bounding-sphere quad (the quadric renderer's
-//                   vertex stage of `bounded` records, per-quadric culling included), depth only:
+//   1. visibility   every ball's quadric over the quadrilateral of its patch (`slim_patch_quad` of
+//                   its `slim_patches` bound, computed in `set_balls`; with tight bounds, else its
+//                   bounding sphere's quad), culled per quadric (perspective) and by its patch's
+//                   normal cone (`slim_patch_culled`, tight bounds) with culling on, depth only:
 //                   the hit's depth pushed away from the eye (`SlimFragment::visibility`), GL_LESS
 //                   into the frame's depth target;
 //   2. accumulate   the same quads with depth writes off and GL_LEQUAL against that depth,
@@ -44,7 +46,8 @@ public:
     int precision() const;
 
     /// Uploads the balls (render::validate_slim_balls: `bounded` primitives, clip plane in
-    /// shape.planes[0]; throws std::invalid_argument before anything is uploaded).
+    /// shape.planes[0]; throws std::invalid_argument before anything is uploaded) and their patch
+    /// bounds (render::slim_patches, on all cores: about 0.1 ms per ball).
     void set_balls(const std::vector<render::Primitive>& balls);
     std::size_t ball_count() const;
 

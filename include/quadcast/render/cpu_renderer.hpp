@@ -285,6 +285,17 @@ inline ScreenRect<float> quad_rect(const ScreenQuad<float>& q) {
     return r;
 }
 
+/// The pixels of `sphere` (a `screen_rect`) within a primitive's tighter rectangle `r`: all of them
+/// where `r` is not tight, none where it is not visible, else the intersection with `ndc_pixels(r)`.
+inline PixelRect within_rect(const PixelRect& sphere, const ScreenRect<float>& r, const FrameSetup& f) {
+    if (!r.tight) return sphere;
+    if (!r.visible) return PixelRect{};
+    const PixelRect t = ndc_pixels(r.lo, r.hi, f);
+    const PixelRect both{std::max(t.x0, sphere.x0), std::max(t.y0, sphere.y0), std::min(t.x1, sphere.x1), std::min(t.y1, sphere.y1)};
+    if (both.x0 > both.x1 || both.y0 > both.y1) return PixelRect{};
+    return both;
+}
+
 /// The pixels the renderers draw a primitive over: `screen_rect` (the bounding sphere's quad,
 /// with the early-outs behind the eye and outside the depth range), and with `tight` for the
 /// ellipsoid and slab variants its intersection with the primitive's rectangle (`primitive_rect`
@@ -303,12 +314,7 @@ inline PixelRect primitive_pixels(const Primitive& p, const FrameSetup& f, bool 
     case RectBound::slab: r = primitive_rect<RectBound::slab>(f.view_projection, s.q, s.center, s.radius, s.axis, s.half_length, viewport); break;
     case RectBound::tetrahedron: r = quad_rect(tetra_quad(f.view_projection, s.planes, s.center, viewport)); break;
     }
-    if (!r.tight) return sphere;
-    if (!r.visible) return PixelRect{};
-    const PixelRect t = ndc_pixels(r.lo, r.hi, f);
-    const PixelRect both{std::max(t.x0, sphere.x0), std::max(t.y0, sphere.y0), std::min(t.x1, sphere.x1), std::min(t.y1, sphere.y1)};
-    if (both.x0 > both.x1 || both.y0 > both.y1) return PixelRect{};
-    return both;
+    return within_rect(sphere, r, f);
 }
 
 namespace cpu_detail {

@@ -11,8 +11,9 @@
 // A ball is a Primitive of variant `bounded` (shapes::quadric with a SphereBound) whose
 // shape.planes[0] is its clip plane in local coordinates ((0, 0, 0, 1): none). Per-quadric
 // back-face culling (`culled`) and per-fragment culling (front root only) follow
-// RenderOptions::culling, as for the quadric renderer. Balls are bound by `screen_rect` (their
-// bounding sphere's quad) and binned into tiles.
+// RenderOptions::culling, as for the quadric renderer; with RenderOptions::tight_bounds a ball is
+// bound by its patch (quadcast/render/slim_patch.hpp: `slim_pixels`, and with culling
+// `slim_patch_cull`), else by `screen_rect` (its bounding sphere's quad); then binned into tiles.
 
 #include <algorithm>
 #include <cmath>
@@ -23,6 +24,7 @@
 #include <vector>
 
 #include "quadcast/render/cpu_renderer.hpp"
+#include "quadcast/render/slim_patch.hpp"
 #include "quadcast/slim_blend.hpp"
 
 namespace quadcast::render {
@@ -65,10 +67,12 @@ inline SlimFragment<float> slim_cast(const Primitive& b, const PixelRay& ray, co
 /// Renders SLIM balls (see the top of this file): RGBA8 as the GL deferred pass shades the blended
 /// surface (`shade_blinn_phong(n, -light.direction, -dir, colour, light.color, (ambient, diffuse,
 /// specular, shininess))`, background elsewhere) and the blended window depth (1 = background).
-/// With `pixels`, what every pixel blended. `threads` 0: the hardware concurrency. Throws
-/// std::invalid_argument (`validate_slim_balls`, bad image size or camera).
+/// With `pixels`, what every pixel blended. `threads` 0: the hardware concurrency. `patches`: the
+/// balls' `slim_patches` (computed here when null and options.tight_bounds is set). Throws
+/// std::invalid_argument (`validate_slim_balls`, bad image size or camera, a patch count that is
+/// not the ball count).
 inline Image render_slim_cpu(const std::vector<Primitive>& balls, const Camera& camera, const Light& light, const RenderOptions& options,
-                             std::vector<SlimPixel>* pixels = nullptr, int threads = 0) {
+                             std::vector<SlimPixel>* pixels = nullptr, int threads = 0, const std::vector<SlimPatch<float>>* patches = nullptr) {
     using namespace cpu_detail;
     validate_slim_balls(balls);
     const FrameSetup f = frame_setup(camera, options.width, options.height);
@@ -76,10 +80,24 @@ inline Image render_slim_cpu(const std::vector<Primitive>& balls, const Camera& 
     const int n = static_cast<int>(balls.size());
     const int tiles_x = (f.width + tile_size - 1) / tile_size, tiles_y = (f.height + tile_size - 1) / tile_size;
     const int n_tiles = tiles_x * tiles_y;
-    // Bound and cull every ball, bin them into tiles in ball order
+    // Bound and cull every ball (as the GL vertex stage), bin them into tiles in ball order
+    std::vector<SlimPatch<float>> own;
+    if (options.tight_bounds && !patches) {
+        own = slim_patches(balls, threads);
+        patches = &own;
+    }
+    if (patches && patches->size() != balls.size())
+        throw std::invalid_argument("quadcast::render: " + std::to_string(patches->size()) + " SLIM patches for " + std::to_string(balls.size()) + " balls");
     std::vector<PixelRect> rects(balls.size());
-    for (int i = 0; i < n; ++i)
-        if (!(options.culling && culled(balls[i], f))) rects[i] = screen_rect(balls[i].shape, f);
+    for (int i = 0; i < n; ++i) {
+        if (options.culling && culled(balls[i], f)) continue;
+        if (!options.tight_bounds) {
+            rects[i] = screen_rect(balls[i].shape, f);
+            continue;
+        }
+        const SlimPatch<float>& patch = (*patches)[std::size_t(i)];
+        if (!(options.culling && slim_patch_cull(balls[i], patch, f))) rects[i] = slim_pixels(balls[i], patch, f, true);
+    }
     std::vector<std::vector<std::uint32_t>> bins(static_cast<std::size_t>(n_tiles));
     for (int i = 0; i < n; ++i) {
         const PixelRect& r = rects[i];
