@@ -32,7 +32,7 @@ namespace {
 struct RenderArgs {
     std::string scene, output, depth;
     int width = 1024, height = 768, frames = 0, slim_bits = 32;
-    bool cpu = false, timing = false;
+    bool cpu = false, timing = false, allow_empty = false;
 };
 
 /// An expected overlap (gl::QuadricRenderer::expected_overlap) as printed.
@@ -48,7 +48,16 @@ void release(std::vector<T>& v) {
     std::vector<T>().swap(v);
 }
 
+/// Writes the picture (and the depth with --depth), unless nothing was drawn (every window depth
+/// 1): a blank picture is an error that names the likely causes, and nothing is written (without
+/// --allow-empty).
 int write_outputs(const RenderArgs& a, const render::Image& img) {
+    if (!a.allow_empty && std::none_of(img.depth.begin(), img.depth.end(), [](float d) { return d < 1.0f; })) {
+        std::cerr << "quadcast render: " << a.scene
+                  << ": the picture is empty: nothing of the scene lies in the camera's view (check the camera's eye, target, near and far "
+                     "against the objects); nothing written (--allow-empty writes the empty picture)\n";
+        return 1;
+    }
     try {
         render::write_png_and_pfm(a.output, a.depth, img);
     } catch (const std::exception& e) {
@@ -337,6 +346,7 @@ void add_render(CLI::App& app) {
     cmd->add_option("--width", a->width, "image width")->check(CLI::Range(1, 16384));
     cmd->add_option("--height", a->height, "image height")->check(CLI::Range(1, 16384));
     cmd->add_flag("--cpu", a->cpu, "render with the CPU reference renderer");
+    cmd->add_flag("--allow-empty", a->allow_empty, "write the picture even when nothing of the scene is in view (otherwise an error)");
     cmd->add_option("--slim-bits", a->slim_bits, "bits per channel of the GL SLIM accumulation targets (16 or 32)")->check(CLI::IsMember({16, 32}));
     cmd->add_option("--depth", a->depth, "also write window depth as PFM (1.0 = background)");
     cmd->add_flag("--timing", a->timing, "print each phase's time and the resident memory after it to stderr (load, frame, context, upload, draw, read, write)");
