@@ -18,6 +18,7 @@
 #include "quadcast/slim/build.hpp"
 #include "quadcast/slim/points.hpp"
 #include "quadcast/slim/scene_loader.hpp"
+#include "slim/slim_testing.hpp"
 
 using namespace quadcast;
 
@@ -160,25 +161,6 @@ std::vector<render::Primitive> random_balls(int count, std::uint64_t seed) {
     return out;
 }
 
-/// The balls of a SLIM surface built from `file` (tests/slim/data) at `error` (built once per run).
-const std::vector<render::Primitive>& model_balls(const char* file, double error) {
-    static std::map<std::pair<std::string, double>, std::vector<render::Primitive>> built;
-    const auto key = std::make_pair(std::string(file), error);
-    if (const auto it = built.find(key); it != built.end()) return it->second;
-    slim::BuildOptions opt;
-    opt.error = error;
-    const slim::OrientedPoints pts = slim::read_points(std::string(QUADCAST_SLIM_TEST_DATA) + "/" + file);
-    const slim::BuildResult b = slim::build(pts, opt);
-    scene::Scene s;
-    scene::Slim m;
-    m.balls = slim::scene_balls(b.model);
-    s.slims.push_back(m);
-    s.camera.eye = scene::Vec3d{{0.0, 0.0, 4.0}};
-    s.camera.target = scene::Vec3d{{0.0, 0.0, 0.0}};
-    s.lights.push_back(scene::Light{});
-    return built[key] = render::build_frame(s, 64, 48).slim_balls;
-}
-
 struct PatchCheck {
     long samples = 0, outside_slab = 0, outside_cone = 0, empty_with_samples = 0;
     long culled = 0, culled_front = 0, quads = 0, outside_quad = 0;
@@ -291,7 +273,7 @@ TEST_CASE("slim_patch: every long-double sample of random patches lies in its sl
 
 TEST_CASE("slim_patch: the balls of built models (torus, reduced bunny)") {
     for (const char* file : {"torus_1024.off", "bunny_3k.off"}) {
-        const std::vector<render::Primitive>& balls = model_balls(file, 3e-3);
+        const std::vector<render::Primitive>& balls = slim::testing::model_balls(file, 3e-3);
         const PatchCheck pc = check_patches(balls, 9, 20, 3);
         print(file, pc);
         CHECK(pc.samples > 100000);
@@ -340,7 +322,7 @@ TEST_CASE("slim_patch: a plane's patch is a thin slab with a closed cone; a sphe
 }
 
 TEST_CASE("slim CPU reference: tight patch bounds and the patch cone change no pixel") {
-    const std::vector<render::Primitive>& balls = model_balls("bunny_3k.off", 3e-3);
+    const std::vector<render::Primitive>& balls = slim::testing::model_balls("bunny_3k.off", 3e-3);
     const std::vector<SlimPatch<float>> patches = render::slim_patches(balls);
     int compared = 0, identical = 0;
     long culled_balls = 0;

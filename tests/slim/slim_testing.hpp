@@ -5,7 +5,15 @@
 #include <filesystem>
 #include <random>
 
+#include <map>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "quadcast/scene/scene_render.hpp"
+#include "quadcast/slim/build.hpp"
 #include "quadcast/slim/points.hpp"
+#include "quadcast/slim/scene_loader.hpp"
 
 namespace quadcast::slim::testing {
 
@@ -95,6 +103,25 @@ inline long double torus_distance(const V3L& y, long double R, long double r, V3
         *normal = vec3(dx / d * cx, dx / d * cy, dz / d);
     }
     return std::fabs(d - r);
+}
+
+/// The balls of a SLIM surface built from `file` (tests/slim/data) at `error` (built once per run).
+inline const std::vector<render::Primitive>& model_balls(const char* file, double error) {
+    static std::map<std::pair<std::string, double>, std::vector<render::Primitive>> built;
+    const auto key = std::make_pair(std::string(file), error);
+    if (const auto it = built.find(key); it != built.end()) return it->second;
+    BuildOptions opt;
+    opt.error = error;
+    const OrientedPoints pts = read_points(std::string(QUADCAST_SLIM_TEST_DATA) + "/" + file);
+    const BuildResult b = build(pts, opt);
+    scene::Scene s;
+    scene::Slim m;
+    m.balls = scene_balls(b.model);
+    s.slims.push_back(m);
+    s.camera.eye = scene::Vec3d{{0.0, 0.0, 4.0}};
+    s.camera.target = scene::Vec3d{{0.0, 0.0, 0.0}};
+    s.lights.push_back(scene::Light{});
+    return built[key] = render::build_frame(s, 64, 48).slim_balls;
 }
 
 }  // namespace quadcast::slim::testing

@@ -41,7 +41,8 @@ public:
     /// Bits per channel of the accumulation targets: 32 (RGBA32F, default) or 16 (RGBA16F: the
     /// half-float sum of w lambda rounds the blended position along the ray to about 2^-11 of its
     /// distance, at no measured gain in speed on llvmpipe); other values throw
-    /// std::invalid_argument (8-bit UNORM targets cannot hold signed sums).
+    /// std::invalid_argument (8-bit UNORM targets would need an encoding of the signed sums whose
+    /// rounding moves the blended surface by about E: README, "8-bit targets").
     void set_precision(int bits);
     int precision() const;
 
