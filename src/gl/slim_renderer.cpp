@@ -61,7 +61,8 @@ public:
             }
         }
         count_ = balls.size();
-        const std::vector<SlimPatch<float>> patches = render::slim_patches(balls);
+        patches_host_ = render::slim_patches(balls);
+        const std::vector<SlimPatch<float>>& patches = patches_host_;
         auto upload = [&](GLenum target, GLuint buf, std::size_t bytes, const void* data) {
             gl.BindBuffer(target, buf);
             gl.BufferData(target, static_cast<GLsizeiptr>(std::max<std::size_t>(bytes, 16)), bytes ? data : nullptr, GL_STATIC_DRAW);
@@ -84,6 +85,7 @@ public:
         gl.BindVertexArray(0);
     }
     std::size_t ball_count() const { return count_; }
+    const std::vector<SlimPatch<float>>& patches() const { return patches_host_; }
 
     void bounds(Vec3<double>& lo, Vec3<double>& hi) const {
         lo = lo_;
@@ -229,6 +231,7 @@ private:
     GLuint afbo_ = 0, atex_[3] = {0, 0, 0}, depth_ = 0;
     int width_ = 0, height_ = 0, bits_ = 32;
     std::size_t count_ = 0;
+    std::vector<SlimPatch<float>> patches_host_;
     Vec3<double> lo_{{1e300, 1e300, 1e300}}, hi_{{-1e300, -1e300, -1e300}};
     GeneratedPrograms programs_{*api_, "quadcast::gl::SlimRenderer"};
 };
@@ -239,6 +242,7 @@ void SlimRenderer::set_precision(int bits) { impl_->set_precision(bits); }
 int SlimRenderer::precision() const { return impl_->precision(); }
 void SlimRenderer::set_balls(const std::vector<render::Primitive>& balls) { impl_->set_balls(balls); }
 std::size_t SlimRenderer::ball_count() const { return impl_->ball_count(); }
+const std::vector<SlimPatch<float>>& SlimRenderer::patches() const { return impl_->patches(); }
 void SlimRenderer::draw(const render::Camera& cam, const render::Light&, const render::RenderOptions& opt, bool gbuffer) {
     impl_->draw(cam, opt, gbuffer);
 }

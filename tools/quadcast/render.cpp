@@ -293,8 +293,22 @@ int run_render(const RenderArgs& a) {
             }
             std::printf("%s: %zu primitives, %dx%d, median frame %.2f ms over %d frames (%s)\n", a.scene.c_str(), primitive_count, a.width,
                         a.height, median(ms), a.frames, ctx->info().renderer.c_str());
-            if (slim.ball_count() > 0)
-                std::printf("%s: %zu SLIM balls, three passes, %d-bit float accumulation targets\n", a.scene.c_str(), slim.ball_count(), slim.precision());
+            if (slim.ball_count() > 0) {
+                std::printf("%s: %zu SLIM balls, three passes, %d-bit float accumulation targets", a.scene.c_str(), slim.ball_count(), slim.precision());
+                if (fr.options.culling) {
+                    // What the vertex stage culls (the same tests on the host): per quadric, and by the patches' normal cones
+                    const render::FrameSetup f = render::frame_setup(fr.camera, a.width, a.height);
+                    std::size_t quadric = 0, either = 0;
+                    for (std::size_t i = 0; i < fr.slim_balls.size(); ++i) {
+                        const bool q = render::culled(fr.slim_balls[i], f);
+                        quadric += q;
+                        either += q || (fr.options.tight_bounds && render::slim_patch_cull(fr.slim_balls[i], slim.patches()[i], f));
+                    }
+                    std::printf("; %zu culled per quadric (Stoll's eq. 18, perspective)", quadric);
+                    if (fr.options.tight_bounds) std::printf(", %zu with the patches' normal cones", either);
+                }
+                std::printf("\n");
+            }
             if (fr.options.occlusion_culling && r.cull_pass_ran())
                 std::printf("%s: cull pass: %zu primitives drawn, %zu culled outside the view, %zu hidden behind occluders%s\n", a.scene.c_str(),
                             r.drawn_primitives(), r.frustum_culled(), r.occluded(),

@@ -25,6 +25,7 @@
 
 #include "quadcast/gl/scene_pass.hpp"
 #include "quadcast/render/types.hpp"
+#include "quadcast/slim_blend.hpp"
 
 namespace quadcast::gl {
 
@@ -51,6 +52,8 @@ public:
     /// bounds (render::slim_patches, on all cores: about 0.1 ms per ball).
     void set_balls(const std::vector<render::Primitive>& balls);
     std::size_t ball_count() const;
+    /// The balls' patch bounds computed by `set_balls` (render::slim_patches), in ball order.
+    const std::vector<SlimPatch<float>>& patches() const;
 
     void draw(const render::Camera& cam, const render::Light& light, const render::RenderOptions& opt, bool gbuffer) override;
     void bounds(Vec3<double>& lo, Vec3<double>& hi) const override;
