@@ -22,12 +22,6 @@ float unorm8(float v) { return std::nearbyint(std::clamp(v, 0.0f, 1.0f) * 255.0f
 /// GL_ONE, GL_ONE blending into a UNORM8 target: the sum saturates at 1.
 float blend8(float dst, float src) { return std::min(1.0f, dst + src); }
 
-double percentile(std::vector<double> v, double p) {
-    if (v.empty()) return 0.0;
-    std::sort(v.begin(), v.end());
-    return v[std::min(v.size() - 1, std::size_t(p * double(v.size())))];
-}
-
 }  // namespace
 
 TEST_CASE("8-bit accumulation targets, simulated: the error of UNORM8 sums against the float sums") {
@@ -137,8 +131,8 @@ TEST_CASE("8-bit accumulation targets, simulated: the error of UNORM8 sums again
         }
         std::printf("  K = %2.0f: %ld covered pixels, %ld lost (every weight below 1/510 K), %ld saturated; normal error median %.2f, 99%% %.2f, max %.2f deg; "
                     "position error median %.3f, 99%% %.3f, max %.3f E\n",
-                    double(K), covered, lost, saturated, percentile(angle, 0.5), percentile(angle, 0.99), percentile(angle, 1.0), percentile(position, 0.5),
-                    percentile(position, 0.99), percentile(position, 1.0));
+                    double(K), covered, lost, saturated, slim::testing::percentile(angle, 0.5), slim::testing::percentile(angle, 0.99), slim::testing::percentile(angle, 1.0), slim::testing::percentile(position, 0.5),
+                    slim::testing::percentile(position, 0.99), slim::testing::percentile(position, 1.0));
         CHECK(covered > 10000);
     }
 }

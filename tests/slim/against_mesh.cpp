@@ -166,12 +166,6 @@ double angle_deg(const V3& a, const V3& b) {
     return std::acos(std::clamp(c, -1.0, 1.0)) * 180.0 / 3.14159265358979323846;
 }
 
-double percentile(std::vector<double> v, double q) {
-    if (v.empty()) return 0;
-    std::sort(v.begin(), v.end());
-    return v[std::min(v.size() - 1, std::size_t(q * double(v.size())))];
-}
-
 }  // namespace
 
 TEST_CASE("no seams on the bunny: neighbouring pixels of one sheet differ in blended normal as the mesh's smooth normals do, within a bound") {

@@ -1,6 +1,7 @@
 // tests/slim/slim_testing.hpp -- test helpers of the slim tests: ellipsoid samples and the exact distance to an ellipsoid
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <random>
@@ -122,6 +123,13 @@ inline const std::vector<render::Primitive>& model_balls(const char* file, doubl
     s.camera.target = scene::Vec3d{{0.0, 0.0, 0.0}};
     s.lights.push_back(scene::Light{});
     return built[key] = render::build_frame(s, 64, 48).slim_balls;
+}
+
+/// The q-quantile of v (the element at index q n of the sorted values, clamped), 0 for none.
+inline double percentile(std::vector<double> v, double q) {
+    if (v.empty()) return 0;
+    std::sort(v.begin(), v.end());
+    return v[std::min(v.size() - 1, std::size_t(q * double(v.size())))];
 }
 
 }  // namespace quadcast::slim::testing
