@@ -517,21 +517,30 @@ DualBound<T> ellipsoid_dual(const Quadric<T>& q) {
     return d;
 }
 
+/// An orthonormal basis (e1, e2) of the planes normal to the unit `axis`: e1 = normalize(axis x t)
+/// with t = x if |axis_x| < 0.9 else y, e2 = axis x e1 (the cap planes of slab primitives,
+/// `slab_cap_dual` and `render::slab_extent`; the frame of a SLIM patch, `render::slim_patch`).
+/// Numerics: `cross`, `normalize`.
+template <class T>
+void plane_basis(const Vec3<T>& axis, Vec3<T>& e1, Vec3<T>& e2) {
+    const mask_t<T> use_x = abs(axis[0]) < T(0.9);
+    const Vec3<T> t = select(use_x, vec3(T(1), T(0), T(0)), vec3(T(0), T(1), T(0)));
+    e1 = normalize(cross(axis, t));
+    e2 = cross(axis, e1);
+}
+
 /// The section of a quadric by the plane axis . x = h (local coordinates) as a `DualBound`:
 /// with an orthonormal basis (e1, e2) of the plane and p0 = h axis, f(p0 + s e1 + t e2) =
 /// [s t] M [s t]^T + 2 m . [s t] + k; its centre p0 + (e1, e2) c with c = -M^-1 m, its value there
 /// k0 = k + m . c, and W = -k0 (e1, e2) M^-1 (e1, e2)^T (an ellipse; 0, the centre point, when the
 /// section is empty or a point). M is divided by its trace before the inverse; ok iff that
-/// determinant exceeds 2^-30 (the section is bounded). e1 = normalize(axis x t) with t = x if
-/// |axis_x| < 0.9 else y (as `render::validate`), e2 = axis x e1.
+/// determinant exceeds 2^-30 (the section is bounded). (e1, e2): `plane_basis` of the axis.
 /// Numerics: dots are left folds; the 2x2 inverse by its adjugate.
 template <class T>
 DualBound<T> slab_cap_dual(const Quadric<T>& q, const Vec3<T>& axis, const T& h) {
     // Build the basis of the cap plane
-    const mask_t<T> use_x = abs(axis[0]) < T(0.9);
-    const Vec3<T> t = select(use_x, vec3(T(1), T(0), T(0)), vec3(T(0), T(1), T(0)));
-    const Vec3<T> e1 = normalize(cross(axis, t));
-    const Vec3<T> e2 = cross(axis, e1);
+    Vec3<T> e1, e2;
+    plane_basis(axis, e1, e2);
     // Restrict the quadric to the plane
     const Mat3<T> a = upper3(q.q);
     const Vec3<T> b = xyz(q.q[3]);

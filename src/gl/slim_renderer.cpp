@@ -62,7 +62,6 @@ public:
         }
         count_ = balls.size();
         patches_host_ = render::slim_patches(balls);
-        const std::vector<SlimPatch<float>>& patches = patches_host_;
         auto upload = [&](GLenum target, GLuint buf, std::size_t bytes, const void* data) {
             gl.BindBuffer(target, buf);
             gl.BufferData(target, static_cast<GLsizeiptr>(std::max<std::size_t>(bytes, 16)), bytes ? data : nullptr, GL_STATIC_DRAW);
@@ -70,7 +69,7 @@ public:
         };
         upload(GL_SHADER_STORAGE_BUFFER, records_, records.size() * sizeof(records[0]), records.data());
         upload(GL_SHADER_STORAGE_BUFFER, planes_, planes.size() * sizeof(float), planes.data());
-        upload(GL_SHADER_STORAGE_BUFFER, patches_, patches.size() * sizeof(patches[0]), patches.data());
+        upload(GL_SHADER_STORAGE_BUFFER, patches_, patches_host_.size() * sizeof(patches_host_[0]), patches_host_.data());
         // Two triangles per bounding quad over its 4 corners (as the quadric renderer draws them).
         std::vector<std::uint32_t> idx;
         idx.reserve(6 * count_);
@@ -174,7 +173,7 @@ private:
         gl.UseProgram(0);
     }
 
-    /// Every ball with program `p`: over its patch's rectangle (`RenderOptions::tight_bounds`) or its
+    /// Every ball with program `p`: over its patch's quadrilateral (`RenderOptions::tight_bounds`) or its
     /// bounding sphere's quad; with `RenderOptions::culling`, per-quadric culling (perspective
     /// cameras) and, with tight bounds, the patch's normal cone.
     void draw_balls(const Program& p, const render::Camera& cam, const GLint* viewport, const render::RenderOptions& opt) {

@@ -47,7 +47,7 @@ TEST_CASE("8-bit accumulation targets, simulated: the error of UNORM8 sums again
     const std::vector<SlimPatch<float>> patches = render::slim_patches(balls);
     std::vector<render::PixelRect> rects(balls.size());
     for (std::size_t i = 0; i < balls.size(); ++i)
-        if (!render::culled(balls[i], f) && !render::slim_patch_cull(balls[i], patches[i], f)) rects[i] = render::slim_pixels(balls[i], patches[i], f, true);
+        if (!render::slim_ball_culled(balls[i], &patches[i], f, opt)) rects[i] = render::slim_pixels(balls[i], patches[i], f);
     // Per pixel the fragments the renderers blend (visibility, then every hit at or before it, in ball order)
     struct Term {
         float w, lambda;

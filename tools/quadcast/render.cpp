@@ -300,9 +300,8 @@ int run_render(const RenderArgs& a) {
                     const render::FrameSetup f = render::frame_setup(fr.camera, a.width, a.height);
                     std::size_t quadric = 0, either = 0;
                     for (std::size_t i = 0; i < fr.slim_balls.size(); ++i) {
-                        const bool q = render::culled(fr.slim_balls[i], f);
-                        quadric += q;
-                        either += q || (fr.options.tight_bounds && render::slim_patch_cull(fr.slim_balls[i], slim.patches()[i], f));
+                        quadric += render::culled(fr.slim_balls[i], f);
+                        either += render::slim_ball_culled(fr.slim_balls[i], &slim.patches()[i], f, fr.options);
                     }
                     std::printf("; %zu culled per quadric (Stoll's eq. 18, perspective)", quadric);
                     if (fr.options.tight_bounds) std::printf(", %zu with the patches' normal cones", either);

@@ -90,13 +90,9 @@ inline Image render_slim_cpu(const std::vector<Primitive>& balls, const Camera& 
         throw std::invalid_argument("quadcast::render: " + std::to_string(patches->size()) + " SLIM patches for " + std::to_string(balls.size()) + " balls");
     std::vector<PixelRect> rects(balls.size());
     for (int i = 0; i < n; ++i) {
-        if (options.culling && culled(balls[i], f)) continue;
-        if (!options.tight_bounds) {
-            rects[i] = screen_rect(balls[i].shape, f);
-            continue;
-        }
-        const SlimPatch<float>& patch = (*patches)[std::size_t(i)];
-        if (!(options.culling && slim_patch_cull(balls[i], patch, f))) rects[i] = slim_pixels(balls[i], patch, f, true);
+        const SlimPatch<float>* patch = patches ? &(*patches)[std::size_t(i)] : nullptr;
+        if (slim_ball_culled(balls[i], patch, f, options)) continue;
+        rects[i] = options.tight_bounds ? slim_pixels(balls[i], *patch, f) : screen_rect(balls[i].shape, f);
     }
     std::vector<std::vector<std::uint32_t>> bins(static_cast<std::size_t>(n_tiles));
     for (int i = 0; i < n; ++i) {

@@ -29,11 +29,11 @@
 // against time and culled balls).
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <thread>
 #include <vector>
 
+#include "quadcast/bounds.hpp"
 #include "quadcast/render/cpu_renderer.hpp"
 #include "quadcast/slim_blend.hpp"
 
@@ -47,42 +47,40 @@ namespace slim_patch_detail {
 /// The quadric F(u) = u^T A u + 2 b . u + c and the plane n . u + d >= 0 in unit coordinates of
 /// the enlarged ball, and the boxes (centre u, half-size s) that may hold a point of the patch.
 struct UnitPatch {
-    double A[3][3], b[3], c;
-    double n[3], d, plane_tol;
+    Mat3<double> A;
+    Vec3<double> b, n;
+    double c, d, plane_tol;
 
-    void gradient_half(const double* u, double* g) const {  // A u + b
-        for (int j = 0; j < 3; ++j) g[j] = A[j][0] * u[0] + A[j][1] * u[1] + A[j][2] * u[2] + b[j];
-    }
+    Vec3<double> gradient_half(const Vec3<double>& u) const { return A * u + b; }
 
-    /// The surviving boxes of the cube [-1, 1]^3 split `depth` times (top of this file).
-    std::vector<std::array<double, 3>> boxes(int depth) const {
+    /// The centres of the surviving boxes of the cube [-1, 1]^3 split `depth` times (top of this file).
+    std::vector<Vec3<double>> boxes(int depth) const {
         double abs_sum = 0.0;
         for (int j = 0; j < 3; ++j)
             for (int i = 0; i < 3; ++i) abs_sum += std::abs(A[j][i]);
-        const double slack = std::ldexp(std::abs(c) + 2.0 * (std::abs(b[0]) + std::abs(b[1]) + std::abs(b[2])) + abs_sum, -40);
-        const double n1 = std::abs(n[0]) + std::abs(n[1]) + std::abs(n[2]);
-        auto may_hold = [&](const double* u, double s) {
+        const double slack = std::ldexp(std::abs(c) + 2.0 * norm1(b) + abs_sum, -40);
+        const double n1 = norm1(n);
+        auto may_hold = [&](const Vec3<double>& u, double s) {
             double d2 = 0.0;
             for (int i = 0; i < 3; ++i) {
                 const double e = std::max(std::abs(u[i]) - s, 0.0);
                 d2 += e * e;
             }
             if (d2 > 1.0) return false;
-            if (n[0] * u[0] + n[1] * u[1] + n[2] * u[2] + d + s * n1 < -plane_tol) return false;
-            double g[3];
-            gradient_half(u, g);
-            const double f = (g[0] * u[0] + g[1] * u[1] + g[2] * u[2]) + (b[0] * u[0] + b[1] * u[1] + b[2] * u[2]) + c;
-            return std::abs(f) <= 2.0 * s * (std::abs(g[0]) + std::abs(g[1]) + std::abs(g[2])) + s * s * abs_sum + slack;
+            if (dot(n, u) + d + s * n1 < -plane_tol) return false;
+            const Vec3<double> g = gradient_half(u);
+            const double f = (dot(g, u) + dot(b, u)) + c;
+            return std::abs(f) <= 2.0 * s * norm1(g) + s * s * abs_sum + slack;
         };
-        std::vector<std::array<double, 3>> cur{{0.0, 0.0, 0.0}}, next;
+        std::vector<Vec3<double>> cur{vec3(0.0, 0.0, 0.0)}, next;
         double s = 1.0;
         for (int level = 0; level < depth && !cur.empty(); ++level) {
             const double h = s * 0.5;
             next.clear();
-            for (const auto& box : cur)
+            for (const Vec3<double>& box : cur)
                 for (int k = 0; k < 8; ++k) {
-                    const std::array<double, 3> child{box[0] + ((k & 1) ? h : -h), box[1] + ((k & 2) ? h : -h), box[2] + ((k & 4) ? h : -h)};
-                    if (may_hold(child.data(), h)) next.push_back(child);
+                    const Vec3<double> child = box + vec3((k & 1) ? h : -h, (k & 2) ? h : -h, (k & 4) ? h : -h);
+                    if (may_hold(child, h)) next.push_back(child);
                 }
             cur.swap(next);
             s = h;
@@ -90,21 +88,17 @@ struct UnitPatch {
         return cur;
     }
 
-    /// The same patch in the frame u = M u' (M orthonormal, columns e1, e2, e3).
-    UnitPatch rotated(const double M[3][3]) const {
+    /// The same patch in the frame u = M u' (M orthonormal).
+    UnitPatch rotated(const Mat3<double>& M) const {
+        const Mat3<double> mt = transpose(M);
         UnitPatch r = *this;
-        for (int j = 0; j < 3; ++j) {
-            for (int i = 0; i < 3; ++i) {
-                double v = 0.0;
-                for (int k = 0; k < 3; ++k)
-                    for (int l = 0; l < 3; ++l) v += M[k][j] * A[k][l] * M[l][i];
-                r.A[j][i] = v;
-            }
-            r.b[j] = M[0][j] * b[0] + M[1][j] * b[1] + M[2][j] * b[2];
-            r.n[j] = M[0][j] * n[0] + M[1][j] * n[1] + M[2][j] * n[2];
-        }
+        r.A = mt * A * M;
+        r.b = mt * b;
+        r.n = mt * n;
         return r;
     }
+
+    static double norm1(const Vec3<double>& v) { return (std::abs(v[0]) + std::abs(v[1])) + std::abs(v[2]); }
 };
 
 }  // namespace slim_patch_detail
@@ -116,67 +110,47 @@ inline SlimPatch<float> slim_patch(const ClippedQuadric<float>& p, int depth = s
     // The quadric and the plane in unit coordinates of the enlarged ball
     const double R = double(p.radius) * (1.0 + 1.0 / 256.0);
     UnitPatch up{};
-    for (int j = 0; j < 3; ++j) {
-        for (int i = 0; i < 3; ++i) up.A[j][i] = double(p.q.q[j][i]) * R * R;
-        up.b[j] = double(p.q.q[3][j]) * R;
-        up.n[j] = double(p.planes[0][j]) * R;
-    }
+    up.A = cast<double>(upper3(p.q.q));
+    for (int j = 0; j < 3; ++j) up.A[j] = up.A[j] * (R * R);
+    up.b = cast<double>(xyz(p.q.q[3])) * R;
     up.c = double(p.q.q[3][3]);
+    up.n = cast<double>(xyz(p.planes[0])) * R;
     up.d = double(p.planes[0][3]);
-    up.plane_tol = std::ldexp(std::sqrt(up.n[0] * up.n[0] + up.n[1] * up.n[1] + up.n[2] * up.n[2]), -8);
+    up.plane_tol = std::ldexp(length(up.n), -8);
     SlimPatch<float> out{};
     out.axis_rho = vec4(0.0f, 0.0f, 1.0f, 0.0f);
     out.slab_cone = vec4(1.0f, -1.0f, 0.0f, 1.0f);  // empty
     // The axis: the mean unit gradient at the centres of a coarse subdivision's boxes
-    const int coarse = std::min(depth, 3);
-    double a[3] = {0.0, 0.0, 0.0};
+    Vec3<double> a = vec3(0.0, 0.0, 0.0);
     {
-        const auto boxes = up.boxes(coarse);
+        const std::vector<Vec3<double>> boxes = up.boxes(std::min(depth, 3));
         if (boxes.empty()) return out;
-        for (const auto& box : boxes) {
-            double g[3];
-            up.gradient_half(box.data(), g);
-            const double len = std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
-            if (len > 0)
-                for (int i = 0; i < 3; ++i) a[i] += g[i] / len;
+        for (const Vec3<double>& box : boxes) {
+            const Vec3<double> g = up.gradient_half(box);
+            const double len = length(g);
+            if (len > 0) a = a + g / len;
         }
-        const double len = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
-        if (len > 1e-6)
-            for (double& v : a) v /= len;
-        else
-            a[0] = a[1] = 0.0, a[2] = 1.0;
+        const double len = length(a);
+        a = len > 1e-6 ? a / len : vec3(0.0, 0.0, 1.0);
     }
     // Subdivide in the frame (e1, e2, a), where the slab is the range of u'_z
-    double M[3][3];  // M[row][column]
-    {
-        const double t[3] = {std::abs(a[0]) < 0.9 ? 1.0 : 0.0, std::abs(a[0]) < 0.9 ? 0.0 : 1.0, 0.0};
-        double e1[3] = {a[1] * t[2] - a[2] * t[1], a[2] * t[0] - a[0] * t[2], a[0] * t[1] - a[1] * t[0]};
-        const double l1 = std::sqrt(e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]);
-        for (double& v : e1) v /= l1;
-        const double e2[3] = {a[1] * e1[2] - a[2] * e1[1], a[2] * e1[0] - a[0] * e1[2], a[0] * e1[1] - a[1] * e1[0]};
-        for (int k = 0; k < 3; ++k) {
-            M[k][0] = e1[k];
-            M[k][1] = e2[k];
-            M[k][2] = a[k];
-        }
-    }
+    Mat3<double> M{};
+    plane_basis(a, M[0], M[1]);
+    M[2] = a;
     const UnitPatch fr = up.rotated(M);
-    const auto boxes = fr.boxes(depth);
+    const std::vector<Vec3<double>> boxes = fr.boxes(depth);
     if (boxes.empty()) return out;
     const double s = std::ldexp(1.0, -depth);
-    double row_abs[3] = {0.0, 0.0, 0.0};
-    for (int j = 0; j < 3; ++j)
-        for (int i = 0; i < 3; ++i) row_abs[j] += std::abs(fr.A[j][i]);
-    const double spread = 2.0 * s * std::sqrt(row_abs[0] * row_abs[0] + row_abs[1] * row_abs[1] + row_abs[2] * row_abs[2]);
+    Vec3<double> row_abs{};
+    for (int i = 0; i < 3; ++i) row_abs[i] = UnitPatch::norm1(row(fr.A, i));
+    const double spread = 2.0 * s * length(row_abs);
     double lo = 1.0, hi = -1.0, cos_min = 1.0;
-    for (const auto& box : boxes) {
+    for (const Vec3<double>& box : boxes) {
         lo = std::min(lo, box[2] - s);
         hi = std::max(hi, box[2] + s);
-        double g[3];
-        fr.gradient_half(box.data(), g);
-        const double len = 2.0 * std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
-        const double along = 2.0 * g[2] - spread;
-        cos_min = std::min(cos_min, along > 0.0 ? along / (len + spread) : 0.0);
+        const Vec3<double> g = fr.gradient_half(box) * 2.0;
+        const double along = g[2] - spread;
+        cos_min = std::min(cos_min, along > 0.0 ? along / (length(g) + spread) : 0.0);
     }
     lo = std::max(lo, -1.0) * R - R / 256.0;
     hi = std::min(hi, 1.0) * R + R / 256.0;
@@ -210,12 +184,21 @@ inline bool slim_patch_cull(const Primitive& b, const SlimPatch<float>& patch, c
                           : bool(slim_patch_culled<false>(b.shape.center, b.shape.radius, patch.axis_rho, patch.slab_cone, f.rays.fixed));
 }
 
-/// The pixels the renderers draw a ball over: `screen_rect` (its bounding sphere's quad), with
-/// `tight` intersected with the rectangle around its patch's quadrilateral (`slim_patch_quad`, the
-/// floats the GL vertex stage computes) where that is tight (empty where it is not visible).
-inline PixelRect slim_pixels(const Primitive& b, const SlimPatch<float>& patch, const FrameSetup& f, bool tight) {
+/// Whether the renderers skip ball `b` in a frame: with RenderOptions::culling, per-quadric culling
+/// (`culled`, perspective cameras) or, with tight bounds, its patch's normal cone (`slim_patch_cull`;
+/// `patch` may be null without tight bounds).
+inline bool slim_ball_culled(const Primitive& b, const SlimPatch<float>* patch, const FrameSetup& f, const RenderOptions& options) {
+    if (!options.culling) return false;
+    return culled(b, f) || (options.tight_bounds && slim_patch_cull(b, *patch, f));
+}
+
+/// The pixels the renderers draw a ball over with tight bounds: `screen_rect` (its bounding
+/// sphere's quad) intersected with the rectangle around its patch's quadrilateral
+/// (`slim_patch_quad`, the floats the GL vertex stage computes) where that is tight (empty where it
+/// is not visible).
+inline PixelRect slim_pixels(const Primitive& b, const SlimPatch<float>& patch, const FrameSetup& f) {
     const PixelRect sphere = screen_rect(b.shape, f);
-    if (!tight || sphere.x0 > sphere.x1) return sphere;
+    if (sphere.x0 > sphere.x1) return sphere;
     const ScreenRect<float> r =
         quad_rect(slim_patch_quad(f.view_projection, b.shape.center, patch.axis_rho, patch.slab_cone, vec2(float(f.width), float(f.height))));
     return within_rect(sphere, r, f);

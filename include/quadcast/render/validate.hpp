@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "quadcast/bounds.hpp"
 #include "quadcast/linalg.hpp"
 #include "quadcast/render/types.hpp"
 
@@ -135,8 +136,8 @@ inline double slab_extent(std::size_t index, const Mat4<float>& q, const Vec3<fl
     split(q, a, b, c);
     const V3 ax = normalize(cast<double>(axis_f));
     // An orthonormal basis (e1, e2) of the cap planes.
-    const V3 t = std::fabs(ax[0]) < 0.9 ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 1.0, 0.0);
-    const V3 e1 = normalize(cross(ax, t)), e2 = cross(ax, e1);
+    V3 e1, e2;
+    plane_basis(ax, e1, e2);
     double best = 0, size[3] = {0, 0, 0};  // sqrt(rho) at h, -h, 0
     int which = 0;
     for (double z : {h, -h, 0.0}) {
