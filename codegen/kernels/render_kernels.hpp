@@ -52,7 +52,7 @@ inline void put_caps(std::mt19937& rng, std::span<float> in, std::size_t& p) {
 template <bool Ortho>
 struct PrimitiveBoundKernel {
     static constexpr const char* name = Ortho ? "primitive_bound_ortho" : "primitive_bound_perspective";
-    static constexpr const char* source = Ortho ? "quadcast::ortho_sphere_square (quadcast/bounds.hpp)" : "quadcast::sphere_quad (quadcast/bounds.hpp)";
+    static constexpr const char* source = Ortho ? "quadcast::ortho_sphere_square, quadcast::rasterised_sphere_quad (quadcast/bounds.hpp)" : "quadcast::sphere_quad, quadcast::rasterised_sphere_quad (quadcast/bounds.hpp)";
     static constexpr const char* summary = "view-space bounding quad of a primitive's bounding sphere";
     template <class IO> static void run(IO& io) {
         using T = typename IO::T;
@@ -63,6 +63,7 @@ struct PrimitiveBoundKernel {
         SphereQuad<T> sq{};
         if constexpr (Ortho) sq = ortho_sphere_square(c, r);
         else sq = sphere_quad(c, r);
+        sq = rasterised_sphere_quad(sq, c);
         for (int i = 0; i < 4; ++i) io.out("corner" + std::to_string(i), sq.corner[i]);
         io.out("valid", sq.valid);
     }

@@ -200,8 +200,8 @@ inline void shade_pixel(const Primitive& p, const Vec3<float>& normal, const Vec
 
 /// Window-pixel rectangle that contains every pixel whose ray can hit the primitive's bounding
 /// sphere, or an empty one when no hit can survive (off screen, behind the eye, outside the
-/// depth range). Host-side, in double: `sphere_quad` of the view-space centre (the GPU's
-/// bounding quad; `ortho_sphere_square` for orthographic cameras), its corners projected by P,
+/// depth range). Host-side, in double: `sphere_quad` of the view-space centre (`ortho_sphere_square`
+/// for orthographic cameras), grown as the GPU's bounding quad (`rasterised_sphere_quad`), its corners projected by P,
 /// widened by 1/16 pixel (`pixel_span`); the full screen when the eye is inside the sphere or
 /// a corner lies on or behind the eye plane.
 inline PixelRect screen_rect(const ClippedQuadric<float>& p, const FrameSetup& f) {
@@ -228,7 +228,7 @@ inline PixelRect screen_rect(const ClippedQuadric<float>& p, const FrameSetup& f
     // Bound the sphere by its quad and project the corners
     Vec3<double> corner[4];
     bool full = false;
-    const SphereQuad<double> sq = f.orthographic ? ortho_sphere_square(c, r) : sphere_quad(c, r);
+    const SphereQuad<double> sq = rasterised_sphere_quad(f.orthographic ? ortho_sphere_square(c, r) : sphere_quad(c, r), c);
     full = !sq.valid;
     for (int i = 0; i < 4; ++i) corner[i] = sq.corner[i];
     double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
