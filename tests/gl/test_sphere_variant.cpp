@@ -104,9 +104,7 @@ TEST_CASE("sphere variant: no edge pixel is lost: 10k random spheres at 1024x768
     std::vector<render::Primitive> spheres;
     for (int i = 0; i < n; ++i) {
         const Vec3<float> p = vec3(u(rng), u(rng), u(rng));
-        render::Primitive s = qc_render_test::sphere(p, radius, vec3(c(rng), c(rng), c(rng)));
-        s.variant = Variant::sphere;
-        spheres.push_back(s);
+        spheres.push_back(qc_render_test::sphere(p, radius, vec3(c(rng), c(rng), c(rng))));  // (the sphere variant)
     }
     r.set_primitives(spheres);
     const Camera cam = qc_render_test::look_at(vec3(0.5, 0.5, 3.0), vec3(0.5, 0.5, 0.5), vec3(0.0, 1.0, 0.0), qc_render_test::perspective(30, 1024.0 / 768.0, 1, 5));

@@ -12,12 +12,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <limits>
 #include <random>
 
 #include "quadcast/bounds.hpp"
 #include "quadcast/camera.hpp"
 #include "quadcast/render/cpu_renderer.hpp"
+#include "render_testing.hpp"
 
 using namespace quadcast;
 
@@ -46,14 +46,8 @@ Margins measure(bool ortho, bool padded, int cameras, int spheres, double min_ma
         const render::FrameSetup f = render::frame_setup(cam, w, h);
         for (int si = 0; si < spheres; ++si) {
             const float r = std::pow(10.0f, -2.5f + 2.0f * u(rng));
-            render::Primitive p;
-            p.shape.q.q = identity<float, 4>();
-            p.shape.q.q[3][3] = -r * r;
-            p.shape.center = vec3(u(rng) * 4 - 2, u(rng) * 4 - 2, u(rng) * 4 - 2);
-            p.shape.radius = r;
-            p.shape.axis = vec3(0.0f, 0.0f, 1.0f);
-            p.shape.half_length = std::numeric_limits<float>::infinity();
-            p.variant = render::Variant::sphere;
+            const Vec3<float> centre = vec3(u(rng) * 4 - 2, u(rng) * 4 - 2, u(rng) * 4 - 2);
+            const render::Primitive p = qc_render_test::sphere(centre, r);
             // The vertex stage's corners (primitive_bound_*): view-space centre, quad, clip positions, in float
             const Vec3<float> c = xyz(cam.view * vec4(p.shape.center, 1.0f));
             SphereQuad<float> sq = ortho ? ortho_sphere_square(c, r) : sphere_quad(c, r);
