@@ -356,7 +356,7 @@ Stage occlusion_bound_shader(bool ortho, bool tri) {
          "uniform vec2 qc_viewport;     // width, height\n"
          "uniform uvec3 qc_levels[16];  // offset, width, height of each pyramid level\n"
          "uniform int qc_level_count;\n\n"
-      << (tri ? std::string() : tet_vertex_table() + "\n") << fns.str() << detail::pyramid_farthest_glsl
+      << (tri ? std::string() : tet_vertex_table() + "\n") << fns.str() << detail::pyramid_farthest_glsl(4)
       << "void main()\n{\n"
          "    uint i = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * 64u + gl_LocalInvocationID.x;\n"
          "    if (i >= qc_count) return;\n"

@@ -67,18 +67,23 @@ extern const char* const fullscreen_vertex;
 
 /// GLSL of the max-depth pyramid lookup of the cull passes: `qc_pyramid_farthest(b)`, the largest
 /// value over the pixels b = (x0, y0, x1, y1) (inclusive) read from the lowest level where they
-/// span at most 4 x 4 texels; the stage declares qc_depth[] (the levels packed), qc_levels[16]
-/// (offset, width, height per level) and qc_level_count.
-inline const char* pyramid_farthest_glsl =
-    "uint qc_pyramid_farthest(uvec4 b)\n{\n"
-    "    int level = 0;\n"
-    "    while (level + 1 < qc_level_count && ((b.z >> level) - (b.x >> level) > 3u || (b.w >> level) - (b.y >> level) > 3u)) ++level;\n"
-    "    uvec3 l = qc_levels[level];\n"
-    "    uint farthest = 0u;\n"
-    "    for (uint y = b.y >> level; y <= (b.w >> level); ++y)\n"
-    "        for (uint x = b.x >> level; x <= (b.z >> level); ++x) farthest = max(farthest, qc_depth[l.x + y * l.y + x]);\n"
-    "    return farthest;\n"
-    "}\n\n";
+/// span at most `span` x `span` texels; the stage declares qc_depth[] (the levels packed),
+/// qc_levels[16] (offset, width, height per level) and qc_level_count.
+/// A finer level holds more of the occluders' detail (a texel is as far as the farthest pixel
+/// under it) but costs span^2 reads: the quadric cull pass reads up to 8 x 8 (bench sticks: 8-9%
+/// fewer primitives drawn than at 4 x 4, 16 x 16 cost more than it saved), the isosurfaces' up to 4 x 4.
+inline std::string pyramid_farthest_glsl(unsigned span) {
+    const std::string limit = std::to_string(span - 1) + "u";
+    return "uint qc_pyramid_farthest(uvec4 b)\n{\n"
+           "    int level = 0;\n"
+           "    while (level + 1 < qc_level_count && ((b.z >> level) - (b.x >> level) > " + limit + " || (b.w >> level) - (b.y >> level) > " + limit + ")) ++level;\n"
+           "    uvec3 l = qc_levels[level];\n"
+           "    uint farthest = 0u;\n"
+           "    for (uint y = b.y >> level; y <= (b.w >> level); ++y)\n"
+           "        for (uint x = b.x >> level; x <= (b.z >> level); ++x) farthest = max(farthest, qc_depth[l.x + y * l.y + x]);\n"
+           "    return farthest;\n"
+           "}\n\n";
+}
 
 /// The end of a cull pass over records in workgroups of 64 (the quadric renderer's and the
 /// isosurface element list's): from `kept` and `inside` of invocation t of workgroup `group`, the

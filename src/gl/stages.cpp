@@ -441,7 +441,8 @@ const char* occlusion_buffers =
 /// primitive beyond the near plane, the disk before the far plane, depths resolved), the pixels whose centres fall in the ellipse its disk projects to
 /// (`occluder_ellipse`, `ellipse_covers`, over `pixel_span` of the ellipse's box) take the disk's
 /// view distance where it is nearer than theirs. Plain loads and stores: any occluder's value is
-/// conservative (quadcast/occlusion.hpp), so a lost race only loosens a pixel.
+/// conservative (quadcast/occlusion.hpp), so a lost race only loosens a pixel. Chains only with
+/// qc_chains (not when the sticks are drawn in phases).
 Stage occluder_shader() {
     Stage s;
     std::ostringstream fns;
@@ -456,7 +457,8 @@ Stage occluder_shader() {
       << "uniform vec3 qc_right, qc_up;    // first two rows of the world->view rotation\n"
          "uniform vec3 qc_occluder_range;  // near and far view distances an occluder must lie between, gap (quadcast::render::occlusion_range)\n"
          "uniform vec4 qc_pz;             // P22, P32, P23, P33 of the projection\n"
-         "uniform uint qc_max_pixels;     // larger boxes are left out\n\n"
+         "uniform uint qc_max_pixels;     // larger boxes are left out\n"
+         "uniform bool qc_chains;         // chains of disks too (false: single disks only; phased sticks)\n\n"
       << fns.str()
       << "// One disk: centre c, radius r_in, in a ball of radius `radius` holding the primitive.\n"
          "void qc_write_disk(vec3 c, float r_in, float radius)\n{\n"
@@ -489,6 +491,7 @@ Stage occluder_shader() {
          "    if (!(r_in > 0.0)) return;\n"
          "    float n;\n"
          "    qc_occluder_chain_count(more.yzw, r_in, n);\n"
+         "    if (n > 1.0 && !qc_chains) return;\n"
          "    for (float k = 0.0; k < n; k += 1.0) {\n"
          "        vec3 ck;\n        float radius_k;\n"
          "        qc_occluder_chain_disk(ball.xyz, more.yzw, more.x, k, n, ck, radius_k);\n"
@@ -582,7 +585,7 @@ const char* pyramid_shader =
 /// Occlusion pass 3: per record, its rectangle (`primitive_rect_*` of its variant's bound); a
 /// record whose rectangle is tight and holds no pixel centre of the viewport (`pixel_span`), or
 /// whose nearest view distance (`nearest_distance`) lies beyond the largest occluder depth over
-/// its pixels (read from the pyramid level where they span at most 4 x 4 texels), is culled
+/// its pixels (read from the pyramid level where they span at most 8 x 8 texels), is culled
 /// (qc_keep 0, counted after the commands); the others are kept (qc_keep 1 + the kept records
 /// before it in its workgroup of 64), and each workgroup counts its kept ones.
 Stage cull_shader() {
@@ -606,7 +609,7 @@ Stage cull_shader() {
          "// Phased drawing: this pass keeps only the records whose nearest view distance lies in the\n"
          "// phase's window [lo, hi) (the first phase from -infinity, NaN included; the last to +infinity).\n"
          "uniform bool qc_windowed;\nuniform vec2 qc_window;\nuniform bool qc_window_first, qc_window_last;\n\n"
-      << fns.str() << detail::pyramid_farthest_glsl
+      << fns.str() << detail::pyramid_farthest_glsl(8)
       << "bool qc_kept(uint prim)\n{\n"
          "    qc_Primitive p = qc_prims[prim];\n"
          "    mat4 q = qc_record_quadric(p);\n"

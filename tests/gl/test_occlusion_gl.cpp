@@ -592,6 +592,136 @@ TEST_CASE("phased drawing of tetrahedral pieces culls what earlier phases hide a
         }
 }
 
+namespace {
+
+/// n capped sticks (length 0.1, radius 0.01) at random points of the unit cube, random directions.
+std::vector<Primitive> random_sticks(unsigned seed, int n) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f), s(-1.0f, 1.0f), c(0.2f, 1.0f);
+    std::vector<Primitive> out;
+    while (static_cast<int>(out.size()) < n) {
+        const glm::vec3 d(s(rng), s(rng), s(rng));
+        const float l = glm::length(d);
+        if (!(l > 0.05f && l <= 1.0f)) continue;
+        const glm::vec3 p(u(rng), u(rng), u(rng));
+        out.push_back(shapes::cylinder(p - d * (0.05f / l), p + d * (0.05f / l), 0.01f, shapes::Ends::both, {{c(rng), c(rng), c(rng)}}));
+    }
+    return out;
+}
+
+/// Balls and sticks: atoms on a jittered 14^3 grid in the unit cube, each bonded to its
+/// neighbours along +x, +y and +z by a capped stick that ends inside both atoms (the stick's
+/// cap and the atom's sphere meet, as in a molecule).
+std::vector<Primitive> balls_and_sticks(unsigned seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> j(-0.012f, 0.012f), c(0.2f, 1.0f);
+    const int g = 14;
+    std::vector<glm::vec3> at;
+    for (int z = 0; z < g; ++z)
+        for (int y = 0; y < g; ++y)
+            for (int x = 0; x < g; ++x) at.push_back(glm::vec3(x, y, z) / float(g - 1) + glm::vec3(j(rng), j(rng), j(rng)));
+    std::vector<Primitive> out;
+    for (const glm::vec3& p : at) out.push_back(shapes::sphere(p, 0.018f, {{c(rng), c(rng), c(rng)}}));
+    auto index = [g](int x, int y, int z) { return static_cast<std::size_t>((z * g + y) * g + x); };
+    for (int z = 0; z < g; ++z)
+        for (int y = 0; y < g; ++y)
+            for (int x = 0; x < g; ++x) {
+                const glm::vec3 p = at[index(x, y, z)];
+                if (x + 1 < g) out.push_back(shapes::cylinder(p, at[index(x + 1, y, z)], 0.007f, shapes::Ends::both, {{0.6f, 0.6f, 0.6f}}));
+                if (y + 1 < g) out.push_back(shapes::cylinder(p, at[index(x, y + 1, z)], 0.007f, shapes::Ends::both, {{0.6f, 0.6f, 0.6f}}));
+                if (z + 1 < g) out.push_back(shapes::cylinder(p, at[index(x, y, z + 1)], 0.007f, shapes::Ends::both, {{0.6f, 0.6f, 0.6f}}));
+            }
+    return out;
+}
+
+}  // namespace
+
+TEST_CASE("phased drawing of sticks: the picture of one phase and of no culling, fewer primitives drawn") {
+    // Scenes of at least 4096 primitives of which at least half are sticks (chains of occluder
+    // disks) are drawn in RenderOptions::occlusion_phases phases, nearest first, without the
+    // chains; spheres alone are not (one disk each). 8000 random sticks and a grid of balls and
+    // sticks (2744 atoms, 7644 bonds), from outside in perspective, orthographically, and with the
+    // eye inside (the near plane through sticks); forward, back-face culling off, deferred with
+    // shadows and outlines: the same coverage, colours and depths as one phase and as no culling.
+    gl::OsmesaContext ctx;
+    gl::QuadricRenderer r(ctx.api());
+    const int w = 320, h = 240;
+    const double aspect = double(w) / h;
+    Light light;
+    light.direction = vec3(-0.4f, -0.6f, -1.0f);
+    using qc_render_test::look_at;
+    const std::vector<std::pair<std::string, Camera>> cams = {
+        {"outside", look_at(vec3(0.5, 0.5, 3.0), vec3(0.5, 0.5, 0.5), vec3(0.0, 1.0, 0.0), qc_render_test::perspective(30, aspect, 1, 5))},
+        {"orthographic", look_at(vec3(1.9, 1.2, 2.3), vec3(0.5, 0.5, 0.5), vec3(0.0, 1.0, 0.0),
+                                 qc_render_test::orthographic(-0.9 * aspect, 0.9 * aspect, -0.9, 0.9, 0.5, 5), true)},
+        {"eye inside", look_at(vec3(0.5, 0.52, 0.55), vec3(0.9, 0.4, 0.1), vec3(0.0, 1.0, 0.0), qc_render_test::perspective(70, aspect, 0.005, 3))},
+    };
+    const std::vector<std::pair<std::string, std::vector<Primitive>>> scenes = {{"random sticks", random_sticks(3, 8000)}, {"balls and sticks", balls_and_sticks(4)}};
+    for (const auto& [scene, prims] : scenes) {
+        REQUIRE(prims.size() >= 4096);
+        r.set_primitives(prims);
+        for (const auto& [name, cam] : cams)
+            for (int mode = 0; mode < 3; ++mode) {
+                RenderOptions o;
+                o.occlusion_min_overlap = 0.0f;  // (the cull pass in every frame)
+                o.width = w;
+                o.height = h;
+                o.culling = mode != 1;
+                o.deferred = o.shadows = o.silhouettes = mode == 2;
+                o.occlusion_phases = 3;
+                r.draw(cam, light, o);
+                const Image three = r.read();
+                const std::size_t drawn_three = r.drawn_primitives();
+                CHECK(r.phases() == 3);
+                o.occlusion_phases = 1;
+                r.draw(cam, light, o);
+                const Image one = r.read();
+                const std::size_t drawn_one = r.drawn_primitives();
+                CHECK(r.phases() == 1);
+                o.occlusion_culling = false;
+                r.draw(cam, light, o);
+                const Image all = r.read();
+                const ImageDiff d = image_diff(three, one), d_all = image_diff(three, all), d_one = image_diff(one, all);
+                const char* what = mode == 0 ? "forward" : mode == 1 ? "culling off" : "deferred, shadows + outlines";
+                std::printf("[phased sticks] %s, %s, %s: %ld covered px, 3 phases against 1: %ld coverage / %ld colour / %ld depth differences, "
+                            "against no culling: %ld / %ld / %ld (1 phase: %ld / %ld / %ld); %zu of %zu drawn in 3 phases, %zu in 1\n",
+                            scene.c_str(), name.c_str(), what, d.covered, d.coverage_diff, d.color_diff, d.depth_diff, d_all.coverage_diff, d_all.color_diff,
+                            d_all.depth_diff, d_one.coverage_diff, d_one.color_diff, d_one.depth_diff, drawn_three, prims.size(), drawn_one);
+                CAPTURE(scene);
+                CAPTURE(name);
+                CAPTURE(what);
+                CHECK(d.covered > 5000);
+                CHECK(d_all.coverage_diff == 0);
+                CHECK(d_all.color_diff == 0);
+                CHECK(d_all.depth_diff == 0);
+                CHECK(d_one.coverage_diff == 0);
+                CHECK(d_one.color_diff == 0);
+                CHECK(d_one.depth_diff == 0);
+                // What lies behind the first phases is culled (the grid is porous: it hides less).
+                if (name == "outside") CHECK(drawn_three * 100 < prims.size() * (scene == "random sticks" ? 55 : 75));
+            }
+    }
+    // Spheres alone occlude with one disk each: one phase.
+    std::vector<Primitive> spheres;
+    for (const Primitive& p : balls_and_sticks(4))
+        if (p.variant == Variant::sphere) spheres.push_back(p);
+    for (int copy = 0; copy < 2; ++copy)
+        for (std::size_t i = 0; i < 2744; ++i) {
+            Primitive p = spheres[i];
+            p.shape.center[2] += 0.02f * float(copy + 1);
+            spheres.push_back(p);
+        }
+    REQUIRE(spheres.size() >= 4096);
+    r.set_primitives(spheres);
+    RenderOptions o;
+    o.occlusion_min_overlap = 0.0f;
+    o.width = w;
+    o.height = h;
+    r.draw(cams[0].second, light, o);
+    CHECK(r.cull_pass_ran());
+    CHECK(r.phases() == 1);
+}
+
 TEST_CASE("draw_primitives into a host application's framebuffer: the cull pass changes no pixel, and the picture is draw's") {
     gl::OsmesaContext ctx;
     const gl::Api& api = ctx.api();

@@ -95,7 +95,7 @@ void run_bounds_bench(const BoundsBenchOptions& o) {
     std::printf("%s\n", ctx.info().summary().c_str());
     std::printf("medians of %d interleaved frames; 'quad': bounding-sphere quads, no cull pass; 'tight': tight bounds (sticks: quadrilaterals along the axis), no cull pass;\n"
                 "'cull': tight rectangles and the occlusion cull pass ('of it cp': the cull pass's GPU time); 'drawn': primitives the cull pass keeps;\nper covered pixel: fragments "
-                "rasterised ('rast') and fragment-shader invocations ('fs', llvmpipe: 16 per 4x4 block shaded)%s\n", o.frames,
+                "rasterised ('rast'; '-' for a cull pass in phases) and fragment-shader invocations ('fs', llvmpipe: 16 per 4x4 block shaded)%s\n", o.frames,
                 o.sticks ? ";\n'rect': tight axis-aligned rectangles instead of the quadrilaterals, no cull pass" : "");
     std::printf("'late': the cull pass without the fragment stage's early discard against the occluder depth image;\n"
                 "'comp': the cull pass with the kept primitives' corners computed by a compute pass on all threads, the vertex stage fetching them\n"
@@ -106,12 +106,15 @@ void run_bounds_bench(const BoundsBenchOptions& o) {
                 "'overlap': the renderer's expected overlap of the frame (render::expected_overlap, from a sample of at most 4096 primitives),\n"
                 "'t layers': the tight bounds' rasterised fragments per viewport pixel (measured); 'auto': the renderer's default\n"
                 "(the cull pass only where the expected overlap reaches RenderOptions::occlusion_min_overlap = %.1f; 'cull' and 'quad' above always and never run it),\n"
-                "'best/auto': the faster of 'tight' and 'cull' over 'auto' (1.00x: the default chose right)\n", double(render::RenderOptions{}.occlusion_min_overlap));
+                "'best/auto': the faster of 'tight' and 'cull' over 'auto' (1.00x: the default chose right);\n"
+                "'1ph': the cull pass in one phase (RenderOptions::occlusion_phases = 1: sticks occlude with their chains of disks; 'cull' draws\n"
+                "sticks in phases, nearest first, each later one culled against what the earlier drew, and writes no chains), '1ph drawn' its kept primitives\n",
+                double(render::RenderOptions{}.occlusion_min_overlap));
     std::printf("%10s %9s %8s %8s %8s %8s %10s %10s %7s %6s %6s %6s %7s %7s %7s", o.sticks ? "sticks" : "spheres", "covered", "quad ms", "tight ms", "cull ms", "of it cp",
                 "quad/cull", "tight/cull", "drawn", "q rast", "t rast", "c rast", "q fs", "t fs", "c fs");
     std::printf(" %9s %11s %9s %9s %11s %8s %8s %8s %7s %9s", "late ms", "late/cull", "comp ms", "c of cp", "cull/comp", "rast ms", "r of cp", "r drawn", "r fs", "cull/rast");
     if (o.sticks) std::printf(" %8s %10s %7s", "rect ms", "rect/tight", "r rast");
-    std::printf(" %8s %8s %8s %6s %10s", "overlap", "t layers", "auto ms", "auto", "best/auto");
+    std::printf(" %8s %8s %8s %6s %10s %8s %9s %9s", "overlap", "t layers", "auto ms", "auto", "best/auto", "1ph ms", "1ph drawn", "1ph/cull");
     if (o.compare) std::printf(" %16s %14s %14s %15s", "closed cull ms", "sphere/closed", "closed comp ms", "cl. cull/comp");
     std::printf("\n");
     gl::QuadricRenderer r(ctx.api());
@@ -135,6 +138,8 @@ void run_bounds_bench(const BoundsBenchOptions& o) {
     modes[0].tight_bounds = false;
     modes[2].occlusion_culling = true;
     modes[2].occlusion_min_overlap = 0.0f;  // the cull pass in every frame
+    render::RenderOptions one_phase = modes[2];  // the cull pass in one phase (sticks: their occluder chains)
+    one_phase.occlusion_phases = 1;
     render::RenderOptions automatic = modes[2];  // the renderer's default: the cull pass where the expected overlap reaches the threshold
     automatic.occlusion_min_overlap = render::RenderOptions{}.occlusion_min_overlap;
     auto time_frame = [&](gl::QuadricRenderer& renderer, const render::RenderOptions& ro) {
@@ -153,6 +158,7 @@ void run_bounds_bench(const BoundsBenchOptions& o) {
             frag[m] = static_cast<double>(r.fragment_invocations());
         }
         const std::size_t drawn = r.drawn_primitives();
+        const int cull_phases = r.phases();  // (phased: the pass-through count below, without depth writes, culls nothing in the later phases)
         const long covered = std::max(1L, covered_pixels(r));
         // Culling must not change the picture: the cull frame against the tight frame
         const render::Image culled_img = r.read();
@@ -182,6 +188,12 @@ void run_bounds_bench(const BoundsBenchOptions& o) {
         r.set_raster_occluders(false);
         const long occ_diff = differing(culled_img, occ_img);
         if (occ_diff) std::printf("WARNING: %ld pixels differ between occluders from the rasteriser and from the compute pass\n", occ_diff);
+        // Nor drawing in phases: one phase against the default
+        r.draw(cam, light, one_phase);
+        const render::Image one_phase_img = r.read();
+        const std::size_t one_phase_drawn = r.drawn_primitives();
+        const long phase_diff = differing(culled_img, one_phase_img);
+        if (phase_diff) std::printf("WARNING: %ld pixels differ between the cull pass in one phase and in phases\n", phase_diff);
         r.set_count_fragments(false);
         r.set_fragment_stage(gl::QuadricRenderer::FragmentStage::passthrough);
         r.set_depth_test(false);
@@ -202,12 +214,13 @@ void run_bounds_bench(const BoundsBenchOptions& o) {
         r.draw(cam, light, modes[2]);  // warm-up
         if (general) general->draw(cam, light, modes[2]);  // warm-up
         // Time the frames, interleaved
-        std::vector<double> ms_auto;
+        std::vector<double> ms_auto, ms_one_phase;
         std::vector<double> ms[3], ms_general, ms_general_comp, ms_cull, ms_rect, ms_late, ms_comp, ms_cull_comp, ms_occ, ms_cull_occ;
         for (int i = 0; i < o.frames; ++i) {
             for (int m = 0; m < 3; ++m) ms[m].push_back(time_frame(r, modes[m]));
             ms_cull.push_back(r.cull_pass_ms());
             ms_auto.push_back(time_frame(r, automatic));
+            ms_one_phase.push_back(time_frame(r, one_phase));
             r.set_early_discard(false);
             ms_late.push_back(time_frame(r, modes[2]));
             r.set_early_discard(true);
@@ -232,8 +245,10 @@ void run_bounds_bench(const BoundsBenchOptions& o) {
             }
         }
         const double t[3] = {median(ms[0]), median(ms[1]), median(ms[2])};
-        std::printf("%10d %9ld %8.1f %8.1f %8.1f %8.1f %9.2fx %9.2fx %6.1f%% %6.2f %6.2f %6.2f %7.2f %7.2f %7.2f", n, covered, t[0], t[1], t[2], median(ms_cull), t[0] / t[2], t[1] / t[2],
-                    100.0 * static_cast<double>(drawn) / std::max(1, n), rast[0] / covered, rast[1] / covered, rast[2] / covered, frag[0] / covered,
+        char c_rast[16] = "     -";
+        if (cull_phases == 1) std::snprintf(c_rast, sizeof c_rast, "%6.2f", rast[2] / covered);
+        std::printf("%10d %9ld %8.1f %8.1f %8.1f %8.1f %9.2fx %9.2fx %6.1f%% %6.2f %6.2f %s %7.2f %7.2f %7.2f", n, covered, t[0], t[1], t[2], median(ms_cull), t[0] / t[2], t[1] / t[2],
+                    100.0 * static_cast<double>(drawn) / std::max(1, n), rast[0] / covered, rast[1] / covered, c_rast, frag[0] / covered,
                     frag[1] / covered, frag[2] / covered);
         const double t_late = median(ms_late);
         const double t_comp = median(ms_comp);
@@ -248,6 +263,8 @@ void run_bounds_bench(const BoundsBenchOptions& o) {
         const double t_auto = median(ms_auto);
         std::printf(" %8.2f %8.2f %8.1f %6s %9.2fx", r.expected_overlap(), rast[1] / (double(o.width) * o.height), t_auto, r.cull_pass_ran() ? "cull" : "skip",
                     std::min(t[1], t[2]) / t_auto);
+        const double t_one_phase = median(ms_one_phase);
+        std::printf(" %8.1f %8.1f%% %8.2fx", t_one_phase, 100.0 * static_cast<double>(one_phase_drawn) / std::max(1, n), t_one_phase / t[2]);
         if (general) {
             const double m_general = median(ms_general);
             const double m_general_comp = median(ms_general_comp);

@@ -309,8 +309,9 @@ int run_render(const RenderArgs& a) {
                 std::printf("\n");
             }
             if (fr.options.occlusion_culling && r.cull_pass_ran())
-                std::printf("%s: cull pass: %zu primitives drawn, %zu culled outside the view, %zu hidden behind occluders%s\n", a.scene.c_str(),
-                            r.drawn_primitives(), r.frustum_culled(), r.occluded(),
+                std::printf("%s: cull pass%s: %zu primitives drawn, %zu culled outside the view, %zu hidden behind occluders%s%s\n", a.scene.c_str(),
+                            r.phases() > 1 ? (" in " + std::to_string(r.phases()) + " phases").c_str() : "", r.drawn_primitives(), r.frustum_culled(), r.occluded(),
+                            r.phases() > 1 ? " or earlier phases" : "",
                             r.expected_overlap() > 0.0 ? (" (expected overlap " + fmt_overlap(r.expected_overlap()) + ")").c_str() : "");
             else if (fr.options.occlusion_culling && primitive_count > 0)
                 std::printf("%s: no cull pass: expected overlap %s below occlusion_min_overlap %g (the primitives rarely hide one another); all %zu drawn\n",

@@ -124,12 +124,16 @@ public:
     /// RenderOptions::occlusion_culling and an expected overlap of at least
     /// RenderOptions::occlusion_min_overlap (or phased drawing).
     bool cull_pass_ran() const;
+    /// The phases the last `draw`'s camera pass drew in (RenderOptions::occlusion_phases where it
+    /// drew a phased variant: tetrahedral pieces, or sticks and other primitives without a single
+    /// occluder disk; else 1).
+    int phases() const;
     /// The expected overlap (render::expected_overlap) the last camera pass decided on; 0 where
     /// it did not estimate one (occlusion culling off, occlusion_min_overlap 0, phased drawing).
     double expected_overlap() const;
     /// Of the last `draw`'s primitives, those its cull pass left out because they cannot reach a
     /// pixel of the viewport (behind the eye or off screen), and those hidden behind occluders
-    /// (0 where the cull pass did not run).
+    /// or, in phased drawing, behind what the earlier phases drew (0 where the cull pass did not run).
     std::size_t frustum_culled() const;
     std::size_t occluded() const;
     /// GPU time (GL_TIME_ELAPSED) of the last `draw`'s cull passes (the camera's and the shadow

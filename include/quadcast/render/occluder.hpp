@@ -44,6 +44,9 @@ inline float occluder_radius(const Primitive& p) { return occluder_shape(p).r_in
 /// Zero for every other primitive.
 inline Vec3<float> occluder_half_axis(const Primitive& p) { return occluder_shape(p).half_axis; }
 
+/// Whether `o` is a chain of several disks (a non-zero `occluder_half_axis`) rather than one disk.
+inline bool occluder_is_chain(const OccluderShape& o) { return o.half_axis[0] != 0.0f || o.half_axis[1] != 0.0f || o.half_axis[2] != 0.0f; }
+
 /// Both at once (one eigen-decomposition).
 inline OccluderShape occluder_shape(const Primitive& p) {
     using namespace validate_detail;

@@ -108,7 +108,10 @@ struct RenderOptions {
     /// inside its ball (`quadcast::planes_within_ball`; bilinear quads do not) and there are at
     /// least 4096 of them; the cull pass of each later phase takes the depth buffer the earlier
     /// phases wrote into its depth image, so that pieces and fragments behind what is drawn are
-    /// skipped. 1: one phase, against the other variants' occluders only. The same picture.
+    /// skipped. So are the other primitives, in frames whose cull pass runs, when there are at
+    /// least 4096 and at least half of them do not occlude with one disk (sticks, whose chains of
+    /// disks are then not written; open cylinders, cones, general quadrics). 1: one phase, against
+    /// the occluders only. The same picture.
     int occlusion_phases = 3;
     Vec3<float> background{{1.0f, 1.0f, 1.0f}};
     /// Ambient and diffuse weights of every primitive's shading ([2], [3]: the specular and
