@@ -44,14 +44,18 @@ Stage ball_vertex_shader(bool ortho) {
       << "uniform vec3 qc_eye;\nuniform vec3 qc_ray_fixed;  // the eye (perspective) or the viewing direction (orthographic)\n"
          "uniform bool qc_cull;        // per-quadric culling (perspective)\n"
          "uniform bool qc_patch;       // draw over the patch's quadrilateral\n"
-         "uniform bool qc_patch_cull;  // cull by the patch's normal cone\n\n"
-         "flat out uint qc_prim;\n\n"
+         "uniform bool qc_patch_cull;  // cull by the patch's normal cone\n"
+         "// The record and its clip plane for the fragment stage (detail::record_varyings_glsl).\n"
+         "layout(std430, binding = 1) readonly buffer qc_SlimPlanes { vec4 qc_slim_planes[]; };\n"
+         "flat out vec4 qc_slim_plane;\n"
+      << detail::record_varyings_glsl("out") << "\n"
       << fns.str()
       << "void main()\n{\n"
          "    uint prim = uint(gl_VertexID) / 4u;\n"
          "    int k = gl_VertexID % 4;\n"
-         "    qc_prim = prim;\n"
          "    qc_Primitive p = qc_prims[prim];\n"
+      << detail::record_varyings_out()
+      << "    qc_slim_plane = qc_slim_planes[prim];\n"
          "    vec4 axis_rho = qc_slim_patches[2u * prim], slab_cone = qc_slim_patches[2u * prim + 1u];\n"
          "    vec2 qd[4];\n    bool tight = false, visible = true;\n"
          "    if (qc_patch)\n"
@@ -87,22 +91,21 @@ Stage ball_fragment_shader(const render::SlimKey& k) {
     if (accumulate) add_kernel(s, fns, "slim_terms");
     std::ostringstream m;
     m << render::record_glsl()
-      << "// Per record its clip plane in local coordinates ((0, 0, 0, 1): none).\n"
-         "layout(std430, binding = 1) readonly buffer qc_SlimPlanes { vec4 qc_slim_planes[]; };\n"
-      << ray_uniforms << "\nflat in uint qc_prim;\n";
+      << ray_uniforms << "\n" << detail::record_varyings_glsl("in")
+      << "flat in vec4 qc_slim_plane;  // the record's clip plane in local coordinates ((0, 0, 0, 1): none)\n";
     if (accumulate)
         m << "layout(location = 0) out vec4 qc_slim_normal_weight;    // w n, w\n"
              "layout(location = 1) out vec4 qc_slim_lambda_material;  // w lambda, w specular, w shininess, 0\n"
              "layout(location = 2) out vec4 qc_slim_color;            // w colour, 0\n";
     m << "\n" << fns.str()
       << "void main()\n{\n"
-         "    qc_Primitive p = qc_prims[qc_prim];\n"
-         "    vec3 ro, rd;\n"
+      << detail::record_varyings_in()
+      << "    vec3 ro, rd;\n"
          "    qc_fragment_ray_" << proj << "(qc_ray_base, qc_ray_dx, qc_ray_dy, qc_ray_fixed, gl_FragCoord.xy, ro, rd);\n"
          "    bool hit;\n    float depth, visibility, lambda, w;\n    vec3 n;\n"
          "    qc_" << (k.cull ? "slim_fragment" : "slim_fragment_nocull")
       << "(qc_record_quadric(p), qc_record_center(p), qc_record_radius(p), qc_record_axis(p), qc_record_half_length(p),\n"
-         "        qc_slim_planes[qc_prim], ro, rd, qc_vz_row, qc_pz, hit, depth, visibility, lambda, n, w);\n"
+         "        qc_slim_plane, ro, rd, qc_vz_row, qc_pz, hit, depth, visibility, lambda, n, w);\n"
          "    if (!hit) discard;\n";
     if (accumulate)
         m << "    gl_FragDepth = depth;\n"

@@ -9,6 +9,7 @@
 
 #include "quadcast/generated/shaders.hpp"
 #include "quadcast/gl/stages.hpp"
+#include "quadcast/render/record.hpp"
 
 namespace quadcast::gl::detail {
 
@@ -64,6 +65,27 @@ std::string bound_uniforms_glsl();
 /// The full-screen triangle of the deferred and resolve passes (positions from gl_VertexID; no
 /// numbers; src/gl/stages.cpp).
 extern const char* const fullscreen_vertex;
+
+/// The primitive's record passed from the vertex stage to the fragment stage as flat varyings
+/// (qc_record[k] = slot k of qc_Primitive) instead of read by every fragment from the storage
+/// buffer: llvmpipe loads a storage buffer lane by lane, and the 7 slots per fragment cost more
+/// than the cast (bench sticks, 50k sticks, three runs interleaved with the buffer reads: the frame
+/// without a cull pass 243-267 ms against 338-390 ms, with it 138-166 against 172-201 ms).
+/// The declaration (`dir` "out" or "in"), the vertex stage's copy from its record `p`, and the
+/// fragment stage's `qc_Primitive p` rebuilt from them.
+inline std::string record_varyings_glsl(const char* dir) {
+    return std::string("flat ") + dir + " vec4 qc_record[" + std::to_string(render::record_slots) + "];  // the primitive's record (qc_Primitive's slots)\n";
+}
+inline std::string record_varyings_out() {
+    std::string t;
+    for (int k = 0; k < render::record_slots; ++k) t += "    qc_record[" + std::to_string(k) + "] = p.s" + std::to_string(k) + ";\n";
+    return t;
+}
+inline std::string record_varyings_in() {
+    std::string t = "    qc_Primitive p = qc_Primitive(";
+    for (int k = 0; k < render::record_slots; ++k) t += std::string(k ? ", " : "") + "qc_record[" + std::to_string(k) + "]";
+    return t + ");\n";
+}
 
 /// GLSL of the max-depth pyramid lookup of the cull passes: `qc_pyramid_farthest(b)`, the largest
 /// value over the pixels b = (x0, y0, x1, y1) (inclusive) read from the lowest level where they

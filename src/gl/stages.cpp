@@ -22,6 +22,7 @@ using render::FragmentShape;
 /// packs with quadcast::render::pack_record).
 const std::string record_glsl = render::record_glsl();
 
+
 /// Environment reflection (forward and deferred shading): the latitude-longitude image and the
 /// reflectivity, and the lookup around the traced kernels: `environment_texel` gives the position,
 /// `environment_texels` the four texels around it (columns wrap, rows clamp), the plumbing
@@ -136,8 +137,9 @@ const char* fetched_bounds_glsl =
     "uniform bool qc_fetch;\n\n";
 
 /// The vertex stage of the general variants: the bounding geometry (`bound_glsl`) and per-quadric
-/// culling (`primitive_cull`, perspective cameras).
-Stage vertex_shader(bool ortho) {
+/// culling (`primitive_cull`, perspective cameras); the record, and with `planes` its four clip
+/// planes, as flat varyings for the fragment stage.
+Stage vertex_shader(bool ortho, bool planes) {
     Stage s;
     std::ostringstream fns;
     const std::string proj = ortho ? "ortho" : "perspective";
@@ -153,7 +155,8 @@ Stage vertex_shader(bool ortho) {
     m << record_glsl << planes_glsl;
     m << bound_uniforms << "uniform bool qc_slab_quad;        // slab bounds: the quadrilateral along the axis, else the rectangle\n"
          "uniform vec3 qc_eye;\nuniform bool qc_cull;\nuniform bool qc_caps;   // the variant closes a slab with caps\n\n"
-         "flat out uint qc_prim;\nflat out float qc_nearest;  // nearest view distance of the bounding sphere (the fragment stage's occlusion test)\n\n";
+         "flat out uint qc_prim;\nflat out float qc_nearest;  // nearest view distance of the bounding sphere (the fragment stage's occlusion test)\n"
+      << detail::record_varyings_glsl("out") << (planes ? "flat out vec4 qc_clip_planes[4];  // the planes variant's clip planes\n\n" : "\n");
     m << fns.str();
     m << visible_glsl << fetched_bounds_glsl;
     m << "// Indexed draw: vertex 4 i + k is corner k of primitive qc_first + i (two triangles share two);\n"
@@ -164,12 +167,14 @@ Stage vertex_shader(bool ortho) {
          "    uint prim = qc_indirect ? qc_visible[slot] : qc_first + slot;\n"
          "    int k = gl_VertexID % 4;\n"
          "    qc_prim = prim;\n"
-         "    if (qc_fetch) {\n"
+         "    qc_Primitive p = qc_prims[prim];\n"
+      << detail::record_varyings_out()
+      << (planes ? "    for (int i = 0; i < 4; ++i) qc_clip_planes[i] = qc_planes[prim - qc_first].p[i];\n" : "")
+      << "    if (qc_fetch) {\n"
          "        qc_nearest = qc_nearests[slot];\n"
          "        gl_Position = qc_corner[4u * slot + uint(k)];\n"
          "        return;\n"
          "    }\n"
-         "    qc_Primitive p = qc_prims[prim];\n"
          "    mat4 q = qc_record_quadric(p);\n"
       << bound_glsl(proj, true)
       << "    bool culled = false, culled_caps = false;\n";
@@ -249,8 +254,7 @@ Stage fragment_shader(const render::QuadricKey& k) {
     }
     std::ostringstream m;
     if (!sphere) m << record_glsl;
-    if (planes)
-        m << planes_glsl << "uniform uint qc_first;\n\n";
+    if (planes) m << "flat in vec4 qc_clip_planes[4];  // the primitive's clip planes (from the vertex stage)\n\n";
     if (brute)
         m << "uniform mat4 qc_inv_view_proj;  // brute force: the pixel's ray from gl_FragCoord\n"
              "uniform vec3 qc_eye;\nuniform vec2 qc_viewport;\n";
@@ -272,7 +276,7 @@ Stage fragment_shader(const render::QuadricKey& k) {
     if (sphere)
         m << "\nflat in float qc_radius;\nflat in vec3 qc_center;\nflat in vec3 qc_prim_color;\nflat in vec2 qc_prim_material;\n";
     else
-        m << "\nflat in uint qc_prim;\n";
+        m << "\nflat in uint qc_prim;\n" << detail::record_varyings_glsl("in");
     if (gbuffer)
         m << "layout(location = 0) out vec4 qc_gnormal;  // normal (unnormalised), window depth\n"
              "layout(location = 1) out vec4 qc_gview;    // ray direction, shininess (> 0: covered)\n"
@@ -283,7 +287,7 @@ Stage fragment_shader(const render::QuadricKey& k) {
     m << "void main()\n{\n"
          "    // Behind the occluders at this pixel: nothing of this primitive can show here (quadcast/occlusion.hpp)\n"
          "    if (qc_early && qc_nearest > 0.0 && floatBitsToUint(qc_nearest) > qc_depth[int(gl_FragCoord.y) * qc_depth_width + int(gl_FragCoord.x)]) discard;\n"
-      << (sphere ? "" : "    qc_Primitive p = qc_prims[qc_prim];\n")
+      << (sphere ? "" : detail::record_varyings_in())
       << "    bool hit;\n    float depth;\n    vec3 n;\n";
     m << "    vec3 ro, rd;\n";
     if (brute) m << "    qc_pixel_ray(qc_inv_view_proj, qc_eye, gl_FragCoord.xy, qc_viewport, ro, rd);\n";
@@ -296,7 +300,7 @@ Stage fragment_shader(const render::QuadricKey& k) {
     else
         m << "    qc_" << kernel << "(qc_record_quadric(p), qc_record_center(p), qc_record_radius(p), qc_record_axis(p), qc_record_half_length(p),\n"
           << (slab ? "        qc_record_caps(p),\n" : "")
-          << (planes ? "        qc_planes[qc_prim - qc_first].p[0], qc_planes[qc_prim - qc_first].p[1], qc_planes[qc_prim - qc_first].p[2], qc_planes[qc_prim - qc_first].p[3],\n" : "")
+          << (planes ? "        qc_clip_planes[0], qc_clip_planes[1], qc_clip_planes[2], qc_clip_planes[3],\n" : "")
           << "        ro, rd, qc_vz_row, qc_pz, hit, depth, n);\n";
     m << "    if (!hit) discard;\n"
          "    gl_FragDepth = depth;\n";
@@ -817,10 +821,12 @@ std::vector<StageText> program_stages(const render::QuadricKey& key) {
     const bool sphere = k.shape == FragmentShape::sphere;
     const std::string proj = k.ortho ? "ortho" : "perspective";
     std::vector<StageText> out;
-    const std::string vname = (sphere ? "qc_sphere_" : "qc_quadric_") + proj + ".vert";
-    out.push_back(stage_text(StageText::Kind::vertex, vname, sphere ? sphere_vertex_shader(k.ortho) : vertex_shader(k.ortho),
-                             sphere ? "quadric renderer: vertex stage of the sphere variant, " + proj + " camera"
-                                    : "quadric renderer: vertex stage, " + proj + " camera"));
+    const bool planes = k.shape == FragmentShape::planes;
+    const std::string vname = (sphere ? "qc_sphere_" : planes ? "qc_quadric_planes_" : "qc_quadric_") + proj + ".vert";
+    out.push_back(stage_text(StageText::Kind::vertex, vname, sphere ? sphere_vertex_shader(k.ortho) : vertex_shader(k.ortho, planes),
+                             sphere   ? "quadric renderer: vertex stage of the sphere variant, " + proj + " camera"
+                             : planes ? "quadric renderer: vertex stage of the planes variant, " + proj + " camera"
+                                      : "quadric renderer: vertex stage, " + proj + " camera"));
     if (k.stage == render::FragmentStage::passthrough) {
         Stage p;
         p.text = passthrough_fragment;

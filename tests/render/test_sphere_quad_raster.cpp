@@ -40,7 +40,7 @@ Margins measure(bool ortho, bool padded, int cameras, int spheres, double min_ma
         render::Camera cam;
         const Vec3<double> eye = vec3(double(u(rng)) * 4 - 2, double(u(rng)) * 4 - 2, 5.0 + double(u(rng)) * 5);
         cam.view = cast<float>(look_at(eye, vec3(0.0, 0.0, 0.0), vec3(0.0, 1.0, 0.0)));
-        cam.projection = ortho ? cast<float>(orthographic(4.5, double(w) / h, 0.5, 30.0)) : cast<float>(perspective(20.0 + 60.0 * u(rng), double(w) / h, 0.5, 30.0));
+        cam.projection = ortho ? cast<float>(orthographic(4.5, double(w) / h, 0.5, 30.0)) : cast<float>(perspective(20.0 + 60.0 * double(u(rng)), double(w) / h, 0.5, 30.0));
         cam.eye = cast<float>(eye);
         cam.orthographic = ortho;
         const render::FrameSetup f = render::frame_setup(cam, w, h);
@@ -58,8 +58,8 @@ Margins measure(bool ortho, bool padded, int cameras, int spheres, double min_ma
             for (int k = 0; k < 4; ++k) {
                 const Vec4<float> q = clip_position(cam.projection, sq.corner[k]);
                 in_front = in_front && q[3] > 0;
-                wx[k] = (double(q[0]) / q[3] + 1) * 0.5 * w;
-                wy[k] = (double(q[1]) / q[3] + 1) * 0.5 * h;
+                wx[k] = (double(q[0]) / double(q[3]) + 1) * 0.5 * w;
+                wy[k] = (double(q[1]) / double(q[3]) + 1) * 0.5 * h;
             }
             if (!in_front) continue;
             const double x0 = *std::min_element(wx, wx + 4), x1 = *std::max_element(wx, wx + 4);
