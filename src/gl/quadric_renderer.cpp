@@ -186,6 +186,7 @@ public:
         bounds_lo_ = {{1e300, 1e300, 1e300}};
         bounds_hi_ = {{-1e300, -1e300, -1e300}};
         render::grow_by_bounds(prims, bounds_lo_, bounds_hi_);
+        std::size_t n_without_disk = 0;  // non-planes primitives that do not occlude with one disk (`phased_variant`)
         for (int v = 0; v < render::variant_count; ++v) {
             ranges_[v] = {static_cast<std::uint32_t>(records.size()), 0};
             for (const auto& p : prims) {
@@ -193,6 +194,7 @@ public:
                 records.push_back(render::pack_record(p));
                 const render::OccluderShape o = render::occluder_shape(p);
                 occluders.insert(occluders.end(), {p.shape.center[0], p.shape.center[1], p.shape.center[2], o.r_in, p.shape.radius, o.half_axis[0], o.half_axis[1], o.half_axis[2]});
+                n_without_disk += p.variant != render::Variant::planes && (!(o.r_in > 0.0f) || render::occluder_is_chain(o));
                 if (p.variant == render::Variant::planes)
                     for (const auto& pl : p.shape.planes) planes.insert(planes.end(), pl.c, pl.c + 4);
             }
@@ -211,21 +213,14 @@ public:
         planes_in_ball_ = true;
         phase_sample_.clear();
         {
-            std::size_t n_others = 0, n_without_disk = 0;
-            for (std::size_t i = 0; i < prims.size(); ++i) {
-                const render::Primitive& p = prims[i];
-                if (p.variant == render::Variant::planes) {
-                    Vec4<double> pl[4];
-                    for (int k = 0; k < 4; ++k) pl[k] = cast<double>(p.shape.planes[static_cast<std::size_t>(k)]);
-                    planes_in_ball_ = planes_in_ball_ && planes_within_ball(pl, double(p.shape.radius));
-                    continue;
-                }
-                ++n_others;
-                const render::OccluderShape o = render::occluder_shape(p);
-                n_without_disk += !(o.r_in > 0.0f) || render::occluder_is_chain(o);
+            const std::size_t n_planes = ranges_[static_cast<int>(render::Variant::planes)].second, n_others = prims.size() - n_planes;
+            for (const auto& p : prims) {
+                if (p.variant != render::Variant::planes) continue;
+                Vec4<double> pl[4];
+                for (int k = 0; k < 4; ++k) pl[k] = cast<double>(p.shape.planes[static_cast<std::size_t>(k)]);
+                planes_in_ball_ = planes_in_ball_ && planes_within_ball(pl, double(p.shape.radius));
             }
             phases_others_ = n_others >= phase_min_count && 2 * n_without_disk >= n_others;
-            const std::size_t n_planes = prims.size() - n_others;
             phases_planes_ = planes_in_ball_ && n_planes >= phase_min_count;
             const std::size_t phased = (phases_planes_ ? n_planes : 0) + (phases_others_ ? n_others : 0);
             const std::size_t stride = std::max<std::size_t>(1, phased / 4096);
@@ -472,8 +467,9 @@ public:
         const int phases = std::clamp(opt.occlusion_phases, 1, 8);
         expected_overlap_ = 0.0;
         cull_pass = cull_pass && runs_cull_pass(cam, opt, depth_target != 0, viewport[2], viewport[3], expected_overlap_);  // (none without primitives)
-        frame_phases_planes_ = cull_pass && phases_allowed(opt, depth_target != 0) && phases_planes_;
-        frame_phases_others_ = cull_pass && phases_allowed(opt, depth_target != 0) && phases_others_;
+        const bool may_phase = cull_pass && phases_allowed(opt, depth_target != 0);
+        frame_phases_planes_ = may_phase && phases_planes_;
+        frame_phases_others_ = may_phase && phases_others_;
         const bool phased = frame_phases_planes_ || frame_phases_others_;
         cull_pass_ran_ = cull_pass;
         const std::vector<float> cuts = phased ? phase_cuts(cam, phases, viewport[2], viewport[3]) : std::vector<float>{};

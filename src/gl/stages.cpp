@@ -22,7 +22,6 @@ using render::FragmentShape;
 /// packs with quadcast::render::pack_record).
 const std::string record_glsl = render::record_glsl();
 
-
 /// Environment reflection (forward and deferred shading): the latitude-longitude image and the
 /// reflectivity, and the lookup around the traced kernels: `environment_texel` gives the position,
 /// `environment_texels` the four texels around it (columns wrap, rows clamp), the plumbing
@@ -155,7 +154,7 @@ Stage vertex_shader(bool ortho, bool planes) {
     m << record_glsl << planes_glsl;
     m << bound_uniforms << "uniform bool qc_slab_quad;        // slab bounds: the quadrilateral along the axis, else the rectangle\n"
          "uniform vec3 qc_eye;\nuniform bool qc_cull;\nuniform bool qc_caps;   // the variant closes a slab with caps\n\n"
-         "flat out uint qc_prim;\nflat out float qc_nearest;  // nearest view distance of the bounding sphere (the fragment stage's occlusion test)\n"
+         "flat out float qc_nearest;  // nearest view distance of the bounding sphere (the fragment stage's occlusion test)\n"
       << detail::record_varyings_glsl("out") << (planes ? "flat out vec4 qc_clip_planes[4];  // the planes variant's clip planes\n\n" : "\n");
     m << fns.str();
     m << visible_glsl << fetched_bounds_glsl;
@@ -166,7 +165,6 @@ Stage vertex_shader(bool ortho, bool planes) {
          "    uint slot = uint(gl_VertexID) / 4u;\n"
          "    uint prim = qc_indirect ? qc_visible[slot] : qc_first + slot;\n"
          "    int k = gl_VertexID % 4;\n"
-         "    qc_prim = prim;\n"
          "    qc_Primitive p = qc_prims[prim];\n"
       << detail::record_varyings_out()
       << (planes ? "    for (int i = 0; i < 4; ++i) qc_clip_planes[i] = qc_planes[prim - qc_first].p[i];\n" : "")
@@ -276,7 +274,7 @@ Stage fragment_shader(const render::QuadricKey& k) {
     if (sphere)
         m << "\nflat in float qc_radius;\nflat in vec3 qc_center;\nflat in vec3 qc_prim_color;\nflat in vec2 qc_prim_material;\n";
     else
-        m << "\nflat in uint qc_prim;\n" << detail::record_varyings_glsl("in");
+        m << "\n" << detail::record_varyings_glsl("in");
     if (gbuffer)
         m << "layout(location = 0) out vec4 qc_gnormal;  // normal (unnormalised), window depth\n"
              "layout(location = 1) out vec4 qc_gview;    // ray direction, shininess (> 0: covered)\n"
