@@ -148,7 +148,7 @@ Stage vertex_shader(Scheme scheme, bool ortho, bool precomputed = false) {
               << permutation_table(scheme);
         m << tet_vertex_table() << "\n";
     }
-    m << "// The depth floors of the elements, 2 for the culled ones (`occlusion_bound_shader`), read when qc_occlusion is 1.\n"
+    m << "// The depth floors of the elements (`occlusion_bound_shader`, a later phase's kept ones), read when qc_occlusion is 1.\n"
          "layout(std430, binding = 10) readonly buffer qc_Floors { float qc_floors[]; };\n"
          "uniform int qc_occlusion;\n\n";
     for (int i = 0; i < g.count; ++i) m << "flat out " << vec_type(g.sizes[static_cast<std::size_t>(i)]) << " qc_" << g.name << i << ";\n";
@@ -162,12 +162,7 @@ Stage vertex_shader(Scheme scheme, bool ortho, bool precomputed = false) {
          "    uint e = qc_first + uint(gl_VertexID) / " << per << "u;\n"
          "    int k = gl_VertexID % " << per << ";\n"
          "    uvec4 rec = qc_elements[e];\n"
-         "    // Occlusion culling: an element hidden behind what the earlier phases drew goes outside the clip volume\n"
-         "    qc_floor = qc_occlusion != 0 ? qc_floors[e] : 0.0;\n"
-         "    if (qc_floor > 1.0) {\n"
-         "        gl_Position = vec4(2.0, 2.0, 2.0, 1.0);\n"
-         "        return;\n"
-         "    }\n";
+         "    qc_floor = qc_occlusion != 0 ? qc_floors[e] : 0.0;\n";
     if (tri) {
         m << "    ivec3 c = ivec3(rec.xyz);\n"
              "    float f[8];\n"
@@ -279,7 +274,7 @@ Stage fragment_shader(Scheme scheme, bool ortho, bool gbuffer) {
 }
 
 /// The compute pre-pass of the `precomputed` vertex stages: per element (relevant tetrahedron)
-/// of the frame, or of a phase of occlusion culling that is not culled, the coefficients by
+/// of the frame, or of a phase's survivors of occlusion culling, the coefficients by
 /// repeated averaging, once instead of once per vertex, written to the storage buffer the vertex
 /// stage reads.
 Stage coefficient_shader(Scheme scheme) {
@@ -294,16 +289,12 @@ Stage coefficient_shader(Scheme scheme) {
          "layout(std430, binding = 1) readonly buffer qc_DeterminingSets { float qc_dsets[]; };  // " << n << " per active cube\n"
          "layout(std430, binding = 2) writeonly buffer qc_Coefficients { float qc_coeffs[]; };  // " << nc << " per element\n"
          "uniform uint qc_first;        // the elements qc_first .. qc_first + qc_count - 1 (a phase of occlusion culling, or all)\n"
-         "uniform uint qc_count;\n"
-         "// Occlusion culling: the elements culled behind the earlier phases (qc_floors > 1) need none\n"
-         "layout(std430, binding = 10) readonly buffer qc_Floors { float qc_floors[]; };\n"
-         "uniform int qc_occlusion;\n\n"
+         "uniform uint qc_count;\n\n"
       << permutation_table(scheme) << "\n" << fns.str()
       << "void main()\n{\n"
          "    uint i = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * 64u + gl_LocalInvocationID.x;\n"
          "    if (i >= qc_count) return;\n"
          "    uint e = qc_first + i;\n"
-         "    if (qc_occlusion != 0 && qc_floors[e] > 1.0) return;\n"
          "    uvec4 rec = qc_elements[e];\n"
          "    uint slot = rec.w >> 5u;\n"
          "    int t = int(rec.w & 31u);\n";
@@ -337,8 +328,9 @@ const char* pyramid_base_shader =
 /// its `tet_occlusion_bound`; an element whose rectangle (`pixel_span`, grown by a pixel for the
 /// rasteriser's snapping) holds no pixel of the viewport, or only pixels whose drawn depths (the
 /// pyramid level where they span at most 4 x 4 texels) all lie nearer than its floor, is culled
-/// (qc_floors 2: the vertex stage moves it outside the clip volume), else qc_floors = its floor,
-/// which the fragment stage tests against the depth drawn at its pixel.
+/// (qc_floors 2, qc_keep 0), else qc_floors = its floor, which the fragment stage tests against
+/// the depth drawn at its pixel; the kept ones are flagged and counted per workgroup of 64 as in
+/// the quadric renderer's cull pass, for the scan and `phase_compact_shader`.
 Stage occlusion_bound_shader(bool ortho, bool tri) {
     Stage s;
     std::ostringstream fns;
@@ -356,10 +348,18 @@ Stage occlusion_bound_shader(bool ortho, bool tri) {
          "uniform vec2 qc_viewport;     // width, height\n"
          "uniform uvec3 qc_levels[16];  // offset, width, height of each pyramid level\n"
          "uniform int qc_level_count;\n\n"
+      << "layout(std430, binding = 6) writeonly buffer qc_Keep { uint qc_keep[]; };     // per element of the phase: 0 culled, else 1 + its slot in the workgroup\n"
+         "layout(std430, binding = 7) writeonly buffer qc_Groups { uint qc_groups[]; };  // per workgroup of 64 elements: the kept ones\n"
+         "shared uint qc_flags[64];\n\n"
       << (tri ? std::string() : tet_vertex_table() + "\n") << fns.str() << detail::pyramid_farthest_glsl(4)
       << "void main()\n{\n"
-         "    uint i = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * 64u + gl_LocalInvocationID.x;\n"
-         "    if (i >= qc_count) return;\n"
+         "    uint t = gl_LocalInvocationID.x;\n"
+         "    uint group = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;\n"
+         "    if (group >= (qc_count + 63u) / 64u) return;  // (a whole workgroup past the elements: the dispatch's last row)\n"
+         "    uint i = group * 64u + t;\n"
+         "    bool inside = i < qc_count;\n"
+         "    bool culled = true;\n"
+         "    if (inside) {\n"
          "    uint e = qc_first + i;\n"
          "    uvec4 rec = qc_elements[e];\n"
          "    float floor_depth;\n    vec2 lo, hi;\n    bool visible;\n";
@@ -370,7 +370,7 @@ Stage occlusion_bound_shader(bool ortho, bool tri) {
         m << "    int t = int(rec.w & 31u);\n"
              "    qc_tet_occlusion_bound_" << proj << "(vec3(rec.xyz), qc_tet_vertices[4 * t], qc_tet_vertices[4 * t + 1], qc_tet_vertices[4 * t + 2], qc_tet_vertices[4 * t + 3],\n"
              "        qc_eye_index, qc_eye_world, qc_forward_world, qc_origin, qc_spacing, qc_view_proj, qc_vz_row, qc_pz, qc_pixel, floor_depth, lo, hi, visible);\n";
-    m << "    bool culled = false;\n"
+    m << "    culled = false;\n"
          "    if (visible && floor_depth > 0.0 && all(lessThan(abs(vec4(lo, hi)), vec4(64.0)))) {\n"
          "        vec4 span;\n"
          "        qc_pixel_span(lo, hi, qc_viewport, span);\n"
@@ -380,7 +380,9 @@ Stage occlusion_bound_shader(bool ortho, bool tri) {
          "        else culled = floor_depth > uintBitsToFloat(qc_pyramid_farthest(uvec4(span)));  // behind what is drawn over all its pixels\n"
          "    }\n"
          "    qc_floors[e] = culled ? 2.0 : floor_depth;\n"
-         "}\n";
+         "    }\n"
+         "    bool kept = inside && !culled;\n"
+      << detail::keep_flags_glsl("i") << "}\n";
     s.text = m.str();
     return s;
 }
@@ -499,6 +501,31 @@ const char* element_compact_shader =
     "    if (k != 0u) qc_elements[qc_groups[group] + k - 1u] = qc_all[e];\n"
     "}\n";
 
+/// Occlusion culling of a later phase, after the bound pass and the quadric renderer's scan
+/// (OcclusionPass::scan): the phase's kept elements, in order, with their depth floors, into the
+/// survivors' list from the phase's first slot on, which the phase then draws (the culled ones
+/// cost no vertex work).
+const char* phase_compact_shader =
+    "layout(local_size_x = 64) in;\n\n"
+    "layout(std430, binding = 0) readonly buffer qc_Elements { uvec4 qc_elements[]; };  // the frame's elements\n"
+    "layout(std430, binding = 10) readonly buffer qc_Floors { float qc_floors[]; };      // their depth floors\n"
+    "layout(std430, binding = 6) readonly buffer qc_Keep { uint qc_keep[]; };\n"
+    "layout(std430, binding = 7) readonly buffer qc_Groups { uint qc_groups[]; };\n"
+    "layout(std430, binding = 11) writeonly buffer qc_Survivors { uvec4 qc_survivors[]; };\n"
+    "layout(std430, binding = 12) writeonly buffer qc_SurvivorFloors { float qc_survivor_floors[]; };\n"
+    "uniform uint qc_first;  // the phase's first element\n"
+    "uniform uint qc_count;  // its elements\n\n"
+    "void main()\n{\n"
+    "    uint group = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;\n"
+    "    uint i = group * 64u + gl_LocalInvocationID.x;\n"
+    "    if (i >= qc_count) return;\n"
+    "    uint k = qc_keep[i];\n"
+    "    if (k == 0u) return;\n"
+    "    uint to = qc_first + qc_groups[group] + k - 1u;\n"
+    "    qc_survivors[to] = qc_elements[qc_first + i];\n"
+    "    qc_survivor_floors[to] = qc_floors[qc_first + i];\n"
+    "}\n";
+
 }  // namespace
 
 namespace {
@@ -546,6 +573,12 @@ StageText element_list_stage(render::OcclusionPass pass) {
         Stage c;
         c.text = element_compact_shader;
         return stage_text(StageText::Kind::compute, "qc_iso_element_compact.comp", c, "isosurface renderer, GPU element list: the kept elements in order into the frame's list");
+    }
+    case render::OcclusionPass::phase_compact: {
+        Stage c;
+        c.text = phase_compact_shader;
+        return stage_text(StageText::Kind::compute, "qc_iso_phase_compact.comp", c,
+                          "isosurface renderer, occlusion culling: the kept elements of a later phase, with their depth floors, in order into the survivors' list");
     }
     default:
         throw std::invalid_argument("quadcast::gl::element_list_stage: not a pass of the element list");

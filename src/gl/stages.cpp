@@ -765,6 +765,7 @@ StageText occlusion_stage(const render::OcclusionKey& k) {
     case render::OcclusionPass::element_cull_tets:
     case render::OcclusionPass::element_cull_cells:
     case render::OcclusionPass::element_compact:
+    case render::OcclusionPass::phase_compact:
         return element_list_stage(k.pass);
     case render::OcclusionPass::occluders:
         return stage_text(StageText::Kind::compute, "qc_occluders.comp", occluder_shader(), "occlusion culling: occluder disks into the depth image");

@@ -352,7 +352,6 @@ TEST_CASE("occlusion culling of isosurface tetrahedra leaves every image unchang
         qr.set_primitives({qc_render_test::sphere(vec3(0.3f, -0.6f, 0.7f), 0.25f, vec3(0.2f, 0.4f, 0.9f))});
         iso.add_volume(m);
         qr.add_pass(iso);
-        iso.set_count_occluded(true);
         for (const View& view : views)
             for (bool deferred : {false, true})
                 for (auto list : {gl::IsosurfaceRenderer::ElementList::cpu, gl::IsosurfaceRenderer::ElementList::gpu}) {

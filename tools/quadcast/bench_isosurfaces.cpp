@@ -290,10 +290,9 @@ void run(const IsoBenchOptions& a) {
             notet = gl.iso.stats(0);
         }
         gl.iso.set_tetrahedron_culling(true);
-        gl.iso.set_count_occluded(true);  // (one more frame, not timed: the culled count, and the image against the unculled one)
+        // (one more frame, not timed: the culled count, and the image against the unculled one)
         gl.frame(cam, light, o);
         on = gl.iso.stats(0);
-        gl.iso.set_count_occluded(false);
         const render::Image img_on = gl.quadrics.read();
         gl.frame(cam, light, no_occl);
         const Diff od = image_diff(img_on, gl.quadrics.read());

@@ -319,9 +319,7 @@ int run_render(const RenderArgs& a) {
             if (gl::has_extension(ctx->api(), "GL_ARB_pipeline_statistics_query")) {
                 // One more frame with the fragment count (not timed).
                 r.set_count_fragments(true);
-                iso.set_count_occluded(true);
                 r.draw(fr.camera, fr.light, fr.options);
-                iso.set_count_occluded(false);
                 r.set_count_fragments(false);
                 const render::Image shown = r.read();
                 const auto visible = std::count_if(shown.depth.begin(), shown.depth.end(), [](float d) { return d < 1.0f; });

@@ -13,9 +13,9 @@
 //   runs the same averaging once per tetrahedron), the vertex's clip position and the ray terms.
 // - Occlusion culling (RenderOptions::occlusion_culling, occlusion_phases): the cubes (cells)
 //   nearest first, the tetrahedra (cells) in phases; before each later phase a copy of the depth buffer,
-//   its max-depth pyramid and per element `spline::tet_occlusion_bound` / `cell_occlusion_bound` (compute): hidden ones
-//   leave the clip volume in the vertex stage, the others' fragments behind the copied depth are
-//   discarded before they cast. The same picture, bit for bit.
+//   its max-depth pyramid and per element `spline::tet_occlusion_bound` / `cell_occlusion_bound` (compute): the kept
+//   ones are compacted into a list of survivors (compute), which the phase draws; their fragments
+//   behind the copied depth are discarded before they cast. The same picture, bit for bit.
 // - Fragment stage (traced): the interpolated ray is rotated into T_0, clipped by barycentric
 //   coordinates, restricted to a univariate BB-form by blossoming, its first root gives the hit;
 //   depth, normal; forward Blinn-Phong or the quadric renderer's geometry buffer (deferred,
@@ -48,7 +48,7 @@ struct IsoDrawStats {
     std::size_t relevant = 0;        ///< relevant tetrahedra / active cells of the whole volume
     std::size_t nodes_visited = 0;   ///< octree nodes tested
     int phases = 0;                  ///< phases drawn (occlusion culling: each later one tested against the earlier ones' depth)
-    std::size_t occluded = 0;        ///< elements of the later phases culled behind the earlier ones (counted with `set_count_occluded`)
+    std::size_t occluded = 0;        ///< elements of the later phases culled behind the earlier ones
 };
 
 /// Draws the isosurfaces of prepared volumes (`render::prepare_volume`, with or without CPU
@@ -96,8 +96,6 @@ public:
     /// 36 B per relevant element on the GPU against 16 B per drawn one.
     enum class ElementList { gpu, cpu };
     void set_element_list(ElementList l) { element_list_ = l; }
-    /// Counts IsoDrawStats::occluded (reads the culling results back: a test and benchmark switch).
-    void set_count_occluded(bool on) { count_occluded_ = on; }
 
     /// Elements per draw call (default and upper limit 65536, the index buffer's size; at least
     /// 1). A test switch: smaller batches give the same picture.
@@ -178,7 +176,11 @@ private:
     struct Volume {
         const render::VolumeModel* model = nullptr;
         GLuint data = 0, elements = 0, indices = 0, coeffs = 0, floors = 0;
-        std::size_t floor_capacity = 0;  ///< elements `floors` holds
+        // Occlusion culling: a later phase's kept elements and their floors (`survivors`,
+        // `survivor_floors`, at the phase's slots), the bound pass's flags and workgroup counts,
+        // and the kept count the scan writes.
+        GLuint survivors = 0, survivor_floors = 0, phase_keep = 0, phase_groups = 0, phase_count = 0;
+        std::size_t floor_capacity = 0;  ///< elements `floors`, `survivors`, ... hold
         std::size_t index_capacity = 0;  ///< elements the index buffer covers
         std::size_t relevant = 0;
         IsoDrawStats stats;
@@ -202,7 +204,7 @@ private:
 
     void release(Volume& v) {
         v.floor_capacity = 0;
-        for (GLuint* b : {&v.data, &v.elements, &v.indices, &v.coeffs, &v.floors, &v.all, &v.listed, &v.keep, &v.groups, &v.count, &v.cubes, &v.cube_kept}) {
+        for (GLuint* b : {&v.data, &v.elements, &v.indices, &v.coeffs, &v.floors, &v.survivors, &v.survivor_floors, &v.phase_keep, &v.phase_groups, &v.phase_count, &v.all, &v.listed, &v.keep, &v.groups, &v.count, &v.cubes, &v.cube_kept}) {
             if (*b) api_->DeleteBuffers(1, b);
             *b = 0;
         }
@@ -371,8 +373,11 @@ private:
 
     /// Occlusion culling of a later phase (after `copy_drawn_depth`): the max-depth pyramid of the
     /// copy (`pyramid_`), then each of the phase's `count` elements from `first` on culled against
-    /// it or given its depth floor (`floors`). False when the viewport is too large for 16 levels.
-    bool cull_phase(Volume& v, const render::Camera& cam, const render::Light& light, const render::RenderOptions& opt, std::size_t first, std::size_t count) {
+    /// it or given its depth floor (`floors`), and the kept ones with their floors copied in order
+    /// into `survivors` and `survivor_floors` from slot `first` on; their count into `kept`.
+    /// False when the viewport is too large for 16 levels.
+    bool cull_phase(Volume& v, const render::Camera& cam, const render::Light& light, const render::RenderOptions& opt, std::size_t first, std::size_t count,
+                    std::size_t& kept) {
         const Api& gl = *api_;
         GLint vp[4] = {0, 0, 0, 0};
         gl.GetIntegerv(GL_VIEWPORT, vp);
@@ -400,8 +405,32 @@ private:
         gl.Uniform1ui(cp.uniform_location("qc_count"), static_cast<GLuint>(count));
         gl.Uniform2f(cp.uniform_location("qc_viewport"), float(vp[2]), float(vp[3]));
         set_pyramid_uniforms(gl, cp, levels);
-        dispatch_rows(gl, static_cast<std::uint32_t>((count + 63) / 64));
+        const auto groups = static_cast<std::uint32_t>((count + 63) / 64);
+        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, v.phase_keep);
+        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, v.phase_groups);
+        dispatch_rows(gl, groups);
         gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        // The kept elements in order into the survivors' list (the quadric renderer's scan)
+        const Program& scan = programs_.get(render::OcclusionKey{render::OcclusionPass::scan});
+        gl.UseProgram(scan.id());
+        gl.Uniform1ui(scan.uniform_location("qc_group_count"), groups);
+        gl.Uniform1ui(scan.uniform_location("qc_command_at"), 0u);
+        gl.Uniform1ui(scan.uniform_location("qc_per_kept"), 1u);
+        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, v.phase_count);
+        gl.DispatchCompute(1, 1, 1);
+        gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        const Program& compact = programs_.get(render::OcclusionKey{render::OcclusionPass::phase_compact});
+        gl.UseProgram(compact.id());
+        gl.Uniform1ui(compact.uniform_location("qc_first"), static_cast<GLuint>(first));
+        gl.Uniform1ui(compact.uniform_location("qc_count"), static_cast<GLuint>(count));
+        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 11, v.survivors);
+        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 12, v.survivor_floors);
+        dispatch_rows(gl, groups);
+        gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+        for (GLuint b : {5u, 6u, 7u, 11u, 12u}) gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, b, 0);
+        std::uint32_t k = 0;
+        gl.GetNamedBufferSubData(v.phase_count, 0, sizeof k, &k);
+        kept = k;
         return true;
     }
 
@@ -423,14 +452,13 @@ private:
             gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
             gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, v.coeffs);
         }
-        // The compute pre-pass: the coefficients of elements first .. first + count - 1 (those not
-        // culled, with `occluded`), then a barrier for the vertex stage
-        const auto precompute = [&](std::size_t first, std::size_t count, bool occluded) {
+        // The compute pre-pass: the coefficients of elements first .. first + count - 1 of the list
+        // bound (a phase's survivors after its occlusion test), then a barrier for the vertex stage
+        const auto precompute = [&](std::size_t first, std::size_t count) {
             const Program& cp = programs_.compute(m.scheme);
             gl.UseProgram(cp.id());
             gl.Uniform1ui(cp.uniform_location("qc_first"), static_cast<GLuint>(first));
             gl.Uniform1ui(cp.uniform_location("qc_count"), static_cast<GLuint>(count));
-            gl.Uniform1i(cp.uniform_location("qc_occlusion"), occluded ? 1 : 0);
             dispatch_rows(gl, static_cast<std::uint32_t>((count + 63) / 64));
             gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
         };
@@ -444,10 +472,15 @@ private:
         const std::vector<std::size_t> ends = phase_ends(n, opt.occlusion_culling && depth_tested ? opt.occlusion_phases : 1);
         const bool occlusion = ends.size() > 1;
         if (occlusion && n > v.floor_capacity) {
-            if (!v.floors) gl.GenBuffers(1, &v.floors);
             v.floor_capacity = std::max(n, 2 * v.floor_capacity);
-            gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, v.floors);
-            gl.BufferData(GL_SHADER_STORAGE_BUFFER, static_cast<GLsizeiptr>(v.floor_capacity * sizeof(float)), nullptr, GL_DYNAMIC_COPY);
+            const std::size_t cap = v.floor_capacity, groups = (cap + 63) / 64;
+            for (const auto& [b, bytes] : {std::pair<GLuint*, std::size_t>{&v.floors, cap * sizeof(float)}, {&v.survivors, cap * 4 * sizeof(std::uint32_t)},
+                                           {&v.survivor_floors, cap * sizeof(float)}, {&v.phase_keep, cap * sizeof(std::uint32_t)},
+                                           {&v.phase_groups, groups * sizeof(std::uint32_t)}, {&v.phase_count, sizeof(std::uint32_t)}}) {
+                if (!*b) gl.GenBuffers(1, b);
+                gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, *b);
+                gl.BufferData(GL_SHADER_STORAGE_BUFFER, static_cast<GLsizeiptr>(bytes), nullptr, GL_DYNAMIC_COPY);
+            }
             gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
         }
         if (occlusion) gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 10, v.floors);
@@ -462,30 +495,35 @@ private:
         std::size_t first = 0;
         v.stats.phases = 0;
         v.stats.occluded = 0;
-        std::vector<std::pair<std::size_t, std::size_t>> tested;  // (the phases culled: for IsoDrawStats::occluded)
+        const GLuint list = element_list_ == ElementList::gpu ? v.listed : v.elements;
         for (std::size_t end : ends) {
+            // A later phase tested against the depth drawn so far draws only its kept elements
+            // (`survivors`, from slot `first` on), each with its depth floor.
+            std::size_t kept = end - first;
             bool test = false;
-            if (occlusion && first > 0) test = copy_drawn_depth() && cull_phase(v, cam, light, opt, first, end - first);
-            if (test) tested.emplace_back(first, end);
-            if (pre) precompute(first, end - first, test);
+            if (occlusion && first > 0) {
+                gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, list);
+                gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 10, v.floors);
+                test = copy_drawn_depth() && cull_phase(v, cam, light, opt, first, end - first, kept);
+                if (test) {
+                    v.stats.occluded += end - first - kept;
+                    gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, v.survivors);
+                    gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 10, v.survivor_floors);
+                }
+            }
+            if (pre) precompute(first, kept);
             gl.UseProgram(prog.id());
             gl.Uniform1i(prog.uniform_location("qc_occlusion"), test ? 1 : 0);
-            for (; first < end; first += std::min(batch_elements, end - first))
-                gl.DrawElementsBaseVertex(GL_TRIANGLES, static_cast<GLsizei>(std::min(batch_elements, end - first) * (tri ? 36 : 12)), GL_UNSIGNED_INT, nullptr,
-                                          static_cast<GLint>(first * per));
+            for (std::size_t b = first; b < first + kept; b += std::min(batch_elements, first + kept - b))
+                gl.DrawElementsBaseVertex(GL_TRIANGLES, static_cast<GLsizei>(std::min(batch_elements, first + kept - b) * (tri ? 36 : 12)), GL_UNSIGNED_INT, nullptr,
+                                          static_cast<GLint>(b * per));
+            first = end;
             ++v.stats.phases;
         }
         if (occlusion) {
             gl.BindTextureUnit(drawn_unit, 0);
             gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, 0);
             gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 10, 0);
-            if (count_occluded_) {
-                gl.MemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-                std::vector<float> f(n);
-                gl.GetNamedBufferSubData(v.floors, 0, static_cast<GLsizeiptr>(n * sizeof(float)), f.data());
-                for (const auto& [b, e] : tested)
-                    for (std::size_t i = b; i < e; ++i) v.stats.occluded += f[i] > 1.0f ? 1 : 0;
-            }
         }
         if (pre) gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, 0);
     }
@@ -650,7 +688,6 @@ private:
     int next_copy_ = 0;
     GLuint pyramid_ = 0;  ///< the max-depth pyramid of occlusion culling (window depth bits, levels packed)
     std::size_t pyramid_texels_ = 0;
-    bool count_occluded_ = false;
 };
 
 }  // namespace quadcast::gl

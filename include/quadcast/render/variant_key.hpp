@@ -128,8 +128,9 @@ struct DeferredKey {
 /// The isosurface renderer's GPU element list (IsosurfaceRenderer::ElementList::gpu) adds the
 /// frustum test of every active cube (`element_cull_cubes`), of every relevant tetrahedron (by its
 /// cube) or trilinear cell (`element_cull_tets`, `element_cull_cells`) and the copy of
-/// the kept ones into the frame's element list (`element_compact`), around `scan`.
-enum class OcclusionPass : std::uint8_t { occluders, pyramid, cull, scan, compact, bounds, depth_image, occluder_raster, element_cull_cubes, element_cull_tets, element_cull_cells, element_compact };
+/// the kept ones into the frame's element list (`element_compact`), around `scan`; its occlusion
+/// culling the copy of a later phase's kept elements into the survivors' list (`phase_compact`).
+enum class OcclusionPass : std::uint8_t { occluders, pyramid, cull, scan, compact, bounds, depth_image, occluder_raster, element_cull_cubes, element_cull_tets, element_cull_cells, element_compact, phase_compact };
 struct OcclusionKey {
     OcclusionPass pass = OcclusionPass::occluders;
     bool sphere = false;  ///< `bounds`: of the sphere-specialised vertex stage
@@ -184,7 +185,7 @@ inline std::string key_name(const IsoKey& k) {
 inline std::string key_name(const OcclusionKey& k) {
     const char* pass = k.pass == OcclusionPass::occluders ? "occluders" : k.pass == OcclusionPass::pyramid ? "pyramid" : k.pass == OcclusionPass::cull ? "cull" : k.pass == OcclusionPass::scan ? "scan" : k.pass == OcclusionPass::compact ? "compact" : k.pass == OcclusionPass::depth_image ? "depth_image" : k.pass == OcclusionPass::occluder_raster ? "occluder_raster"
                      : k.pass == OcclusionPass::element_cull_cubes ? "element_cull_cubes" : k.pass == OcclusionPass::element_cull_tets ? "element_cull_tets" : k.pass == OcclusionPass::element_cull_cells ? "element_cull_cells"
-                     : k.pass == OcclusionPass::element_compact ? "element_compact" : "bounds";
+                     : k.pass == OcclusionPass::element_compact ? "element_compact" : k.pass == OcclusionPass::phase_compact ? "phase_compact" : "bounds";
     if (k.pass != OcclusionPass::bounds) return std::string("occlusion:") + pass;
     return std::string("occlusion:") + pass + (k.sphere ? ":sphere" : ":quadric") + (k.ortho ? ":ortho" : ":perspective");
 }
@@ -209,7 +210,8 @@ inline std::vector<SlimKey> all_slim_keys() {
 inline std::vector<OcclusionKey> all_occlusion_keys() {
     std::vector<OcclusionKey> out{{OcclusionPass::occluders}, {OcclusionPass::pyramid}, {OcclusionPass::cull}, {OcclusionPass::scan}, {OcclusionPass::compact},
                                   {OcclusionPass::depth_image}, {OcclusionPass::occluder_raster},
-                                  {OcclusionPass::element_cull_cubes}, {OcclusionPass::element_cull_tets}, {OcclusionPass::element_cull_cells}, {OcclusionPass::element_compact}};
+                                  {OcclusionPass::element_cull_cubes}, {OcclusionPass::element_cull_tets}, {OcclusionPass::element_cull_cells}, {OcclusionPass::element_compact},
+                                  {OcclusionPass::phase_compact}};
     for (bool sphere : {false, true})
         for (bool ortho : {false, true}) out.push_back({OcclusionPass::bounds, sphere, ortho});
     return out;
