@@ -182,6 +182,8 @@ private:
         GLuint survivors = 0, survivor_floors = 0, phase_keep = 0, phase_groups = 0, phase_count = 0;
         std::size_t floor_capacity = 0;  ///< elements `floors`, `survivors`, ... hold
         std::size_t index_capacity = 0;  ///< elements the index buffer covers
+        std::size_t element_capacity = 0, coeff_capacity = 0;  ///< elements `elements` and `coeffs` hold (grown only: a large
+                                                               ///< buffer reallocated per frame is faulted in again per frame)
         std::size_t relevant = 0;
         IsoDrawStats stats;
         // The GPU element list: every relevant element (uploaded on first use, again when the
@@ -203,7 +205,7 @@ private:
     }
 
     void release(Volume& v) {
-        v.floor_capacity = 0;
+        v.floor_capacity = v.element_capacity = v.coeff_capacity = 0;
         for (GLuint* b : {&v.data, &v.elements, &v.indices, &v.coeffs, &v.floors, &v.survivors, &v.survivor_floors, &v.phase_keep, &v.phase_groups, &v.phase_count, &v.all, &v.listed, &v.keep, &v.groups, &v.count, &v.cubes, &v.cube_kept}) {
             if (*b) api_->DeleteBuffers(1, b);
             *b = 0;
@@ -446,10 +448,13 @@ private:
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, v.data);
         const bool pre = coeff_stage_ == CoefficientStage::compute && !tri;
         if (pre) {
-            const std::size_t nc = static_cast<std::size_t>(bb::coefficient_count(m.degree()));
-            gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, v.coeffs);
-            gl.BufferData(GL_SHADER_STORAGE_BUFFER, static_cast<GLsizeiptr>(n * nc * sizeof(float)), nullptr, GL_DYNAMIC_COPY);
-            gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
+            if (n > v.coeff_capacity) {
+                const std::size_t nc = static_cast<std::size_t>(bb::coefficient_count(m.degree()));
+                v.coeff_capacity = n + n / 8;
+                gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, v.coeffs);
+                gl.BufferData(GL_SHADER_STORAGE_BUFFER, static_cast<GLsizeiptr>(v.coeff_capacity * nc * sizeof(float)), nullptr, GL_DYNAMIC_COPY);
+                gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
+            }
             gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, v.coeffs);
         }
         // The compute pre-pass: the coefficients of elements first .. first + count - 1 of the list
@@ -532,10 +537,15 @@ private:
     std::size_t cpu_select(Volume& v, const render::Camera& cam) {
         const std::vector<std::uint32_t> rec = select(v, cam);
         if (rec.empty()) return 0;
+        const std::size_t n = rec.size() / 4;
         api_->BindBuffer(GL_SHADER_STORAGE_BUFFER, v.elements);
-        upload(GL_SHADER_STORAGE_BUFFER, rec);
+        if (n > v.element_capacity) {
+            v.element_capacity = n + n / 8;
+            api_->BufferData(GL_SHADER_STORAGE_BUFFER, static_cast<GLsizeiptr>(v.element_capacity * 4 * sizeof(std::uint32_t)), nullptr, GL_DYNAMIC_DRAW);
+        }
+        api_->BufferSubData(GL_SHADER_STORAGE_BUFFER, 0, static_cast<GLsizeiptr>(rec.size() * sizeof(std::uint32_t)), rec.data());
         api_->BindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
-        return rec.size() / 4;
+        return n;
     }
 
     /// The GPU element list (`ElementList::gpu`): every relevant element of the volume (uploaded
