@@ -516,7 +516,7 @@ void load_environment(const JsonNode& n, Options& o, const std::filesystem::path
 }
 
 Options load_options(const JsonNode& n, const std::filesystem::path& base_dir) {
-    n.expect_keys({"culling", "tight_bounds", "occlusion_culling", "occlusion_phases", "occlusion_min_overlap", "deferred", "shadows", "silhouettes", "outline", "shadow", "background", "environment", "comment"});
+    n.expect_keys({"culling", "tight_bounds", "occlusion_culling", "occlusion_phases", "occlusion_min_overlap", "occlusion_reuse", "deferred", "shadows", "silhouettes", "outline", "shadow", "background", "environment", "comment"});
     Options o;
     if (const auto ol = n.get("outline")) {
         ol->expect_keys({"depth", "crease", "strength", "comment"});
@@ -551,6 +551,7 @@ Options load_options(const JsonNode& n, const std::filesystem::path& base_dir) {
         if (m > 1e6) v->fail("the minimum expected overlap for the cull pass must be in [0, 1e6] (0: always)", true);
         o.occlusion_min_overlap = static_cast<float>(m);
     }
+    if (const auto v = n.get("occlusion_reuse")) o.occlusion_reuse = v->boolean();
     if (const auto v = n.get("deferred")) o.deferred = v->boolean();
     if (const auto v = n.get("shadows")) o.shadows = v->boolean();
     if (const auto v = n.get("silhouettes")) o.silhouettes = v->boolean();

@@ -188,6 +188,7 @@ Frame build_frame(const scene::Scene& s, int width, int height) {
     fr.options.occlusion_culling = s.options.occlusion_culling;
     fr.options.occlusion_phases = s.options.occlusion_phases;
     fr.options.occlusion_min_overlap = s.options.occlusion_min_overlap;
+    fr.options.occlusion_reuse = s.options.occlusion_reuse;
     fr.options.background = cast<float>(s.options.background);
     fr.options.deferred = s.options.deferred;
     fr.options.silhouettes = s.options.silhouettes;

@@ -108,16 +108,21 @@ void run_bounds_bench(const BoundsBenchOptions& o) {
                 "(the cull pass only where the expected overlap reaches RenderOptions::occlusion_min_overlap = %.1f; 'cull' and 'quad' above always and never run it),\n"
                 "'best/auto': the faster of 'tight' and 'cull' over 'auto' (1.00x: the default chose right);\n"
                 "'1ph': the cull pass in one phase (RenderOptions::occlusion_phases = 1: sticks occlude with their chains of disks; 'cull' draws\n"
-                "sticks in phases, nearest first, each later one culled against what the earlier drew, and writes no chains), '1ph drawn' its kept primitives\n",
+                "sticks in phases, nearest first, each later one culled against what the earlier drew, and writes no chains), '1ph drawn' its kept primitives;\n"
+                "'reuse': the default options with the last frame's shown set drawn first (RenderOptions::occlusion_reuse; the other columns' frames\n"
+                "interleave options in one renderer and reuse nothing), its own renderer's third and later frames; 'reuse drawn' the primitives\n"
+                "its two phases drew, 'reuse fs' its fragment-shader invocations per covered pixel, 'auto/reuse' > 1: the reuse pays\n",
                 double(render::RenderOptions{}.occlusion_min_overlap));
     std::printf("%10s %9s %8s %8s %8s %8s %10s %10s %7s %6s %6s %6s %7s %7s %7s", o.sticks ? "sticks" : "spheres", "covered", "quad ms", "tight ms", "cull ms", "of it cp",
                 "quad/cull", "tight/cull", "drawn", "q rast", "t rast", "c rast", "q fs", "t fs", "c fs");
     std::printf(" %9s %11s %9s %9s %11s %8s %8s %8s %7s %9s", "late ms", "late/cull", "comp ms", "c of cp", "cull/comp", "rast ms", "r of cp", "r drawn", "r fs", "cull/rast");
     if (o.sticks) std::printf(" %8s %10s %7s", "rect ms", "rect/tight", "r rast");
     std::printf(" %8s %8s %8s %6s %10s %8s %9s %9s", "overlap", "t layers", "auto ms", "auto", "best/auto", "1ph ms", "1ph drawn", "1ph/cull");
+    std::printf(" %8s %10s %8s %11s", "reuse ms", "reuse drawn", "reuse fs", "auto/reuse");
     if (o.compare) std::printf(" %16s %14s %14s %15s", "closed cull ms", "sphere/closed", "closed comp ms", "cl. cull/comp");
     std::printf("\n");
     gl::QuadricRenderer r(ctx.api());
+    gl::QuadricRenderer reuse_r(ctx.api());  // the default options' frames, each reusing the last one's shown set
     std::unique_ptr<gl::QuadricRenderer> general;  // --compare: the closed-quadric variant
     if (o.compare) general = std::make_unique<gl::QuadricRenderer>(ctx.api());
     render::Camera cam;
@@ -134,6 +139,7 @@ void run_bounds_bench(const BoundsBenchOptions& o) {
         m.culling = o.culling;
         m.deferred = o.deferred;
         m.occlusion_culling = false;
+        m.occlusion_reuse = false;  // (the modes interleave in one renderer; the reuse of shown sets has its own, below)
     }
     modes[0].tight_bounds = false;
     modes[2].occlusion_culling = true;
@@ -142,6 +148,8 @@ void run_bounds_bench(const BoundsBenchOptions& o) {
     one_phase.occlusion_phases = 1;
     render::RenderOptions automatic = modes[2];  // the renderer's default: the cull pass where the expected overlap reaches the threshold
     automatic.occlusion_min_overlap = render::RenderOptions{}.occlusion_min_overlap;
+    render::RenderOptions reuse = automatic;  // the renderer's default, with the shown set reused where frames repeat
+    reuse.occlusion_reuse = true;
     auto time_frame = [&](gl::QuadricRenderer& renderer, const render::RenderOptions& ro) {
         const auto t0 = std::chrono::steady_clock::now();
         renderer.draw(cam, light, ro);
@@ -149,6 +157,7 @@ void run_bounds_bench(const BoundsBenchOptions& o) {
     };
     for (int n : o.counts) {
         r.set_primitives(o.sticks ? random_sticks(n, 7) : random_spheres(n, 7, render::Variant::sphere));
+        reuse_r.set_primitives(o.sticks ? random_sticks(n, 7) : random_spheres(n, 7, render::Variant::sphere));
         if (general) general->set_primitives(random_spheres(n, 7, render::Variant::ellipsoid));
         // Count the fragments of one frame each (the queries are not in the timed frames)
         double frag[3], rast[3];
@@ -211,15 +220,28 @@ void run_bounds_bench(const BoundsBenchOptions& o) {
         }
         r.set_depth_test(true);
         r.set_fragment_stage(gl::QuadricRenderer::FragmentStage::incremental);
+        // The reused shown set: its third frame (the first records every primitive as shown, the
+        // second tests them against what they drew), its fragments, and its picture against the tight frame
+        reuse_r.draw(cam, light, reuse);
+        reuse_r.draw(cam, light, reuse);
+        reuse_r.set_count_fragments(true);
+        reuse_r.draw(cam, light, reuse);
+        reuse_r.set_count_fragments(false);
+        const double reuse_frag = static_cast<double>(reuse_r.fragment_invocations());
+        const std::size_t reuse_drawn = reuse_r.drawn_primitives();
+        const bool reused = reuse_r.reused_shown_set();
+        const long reuse_diff = differing(tight_img, reuse_r.read());
+        if (reuse_diff) std::printf("WARNING: %ld pixels differ between the frame reusing the shown set and the unculled frame\n", reuse_diff);
         r.draw(cam, light, modes[2]);  // warm-up
         if (general) general->draw(cam, light, modes[2]);  // warm-up
         // Time the frames, interleaved
-        std::vector<double> ms_auto, ms_one_phase;
+        std::vector<double> ms_auto, ms_one_phase, ms_reuse;
         std::vector<double> ms[3], ms_general, ms_general_comp, ms_cull, ms_rect, ms_late, ms_comp, ms_cull_comp, ms_occ, ms_cull_occ;
         for (int i = 0; i < o.frames; ++i) {
             for (int m = 0; m < 3; ++m) ms[m].push_back(time_frame(r, modes[m]));
             ms_cull.push_back(r.cull_pass_ms());
             ms_auto.push_back(time_frame(r, automatic));
+            ms_reuse.push_back(time_frame(reuse_r, reuse));
             ms_one_phase.push_back(time_frame(r, one_phase));
             r.set_early_discard(false);
             ms_late.push_back(time_frame(r, modes[2]));
@@ -265,6 +287,9 @@ void run_bounds_bench(const BoundsBenchOptions& o) {
                     std::min(t[1], t[2]) / t_auto);
         const double t_one_phase = median(ms_one_phase);
         std::printf(" %8.1f %8.1f%% %8.2fx", t_one_phase, 100.0 * static_cast<double>(one_phase_drawn) / std::max(1, n), t_one_phase / t[2]);
+        const double t_reuse = median(ms_reuse);
+        std::printf(" %8.1f %9.1f%% %8.2f %10.2fx", t_reuse, reused ? 100.0 * static_cast<double>(reuse_drawn) / std::max(1, n) : 100.0, reuse_frag / covered,
+                    t_auto / t_reuse);
         if (general) {
             const double m_general = median(ms_general);
             const double m_general_comp = median(ms_general_comp);

@@ -126,8 +126,11 @@ public:
     bool cull_pass_ran() const;
     /// The phases the last `draw`'s camera pass drew in (RenderOptions::occlusion_phases where it
     /// drew a phased variant: tetrahedral pieces, or sticks and other primitives without a single
-    /// occluder disk; else 1).
+    /// occluder disk; 2 where it reused the last frame's shown set; else 1).
     int phases() const;
+    /// Whether the last `draw`'s camera pass drew the last frame's shown set first
+    /// (RenderOptions::occlusion_reuse).
+    bool reused_shown_set() const;
     /// The expected overlap (render::expected_overlap) the last camera pass decided on; 0 where
     /// it did not estimate one (occlusion culling off, occlusion_min_overlap 0, phased drawing).
     double expected_overlap() const;

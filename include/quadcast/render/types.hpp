@@ -113,6 +113,13 @@ struct RenderOptions {
     /// disks are then not written; open cylinders, cones, general quadrics). 1: one phase, against
     /// the occluders only. The same picture.
     int occlusion_phases = 3;
+    /// GL, with occlusion_culling, where frames repeat: a frame draws first the primitives that
+    /// passed the last frame's test against what it drew (its shown set, per depth target: the
+    /// camera's, the shadow map's), then tests every primitive against the depth those drew and
+    /// draws the rest that pass; the results are the next frame's set. Not in frames drawn in
+    /// phases, nor into a host's framebuffer (QuadricRenderer::draw_primitives). The camera may
+    /// move between frames: the test runs against this frame's own depth. The same picture.
+    bool occlusion_reuse = true;
     Vec3<float> background{{1.0f, 1.0f, 1.0f}};
     /// Ambient and diffuse weights of every primitive's shading ([2], [3]: the specular and
     /// shininess of geometry without a Material of its own, e.g. meshes).

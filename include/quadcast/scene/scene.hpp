@@ -150,6 +150,9 @@ struct Options {
     /// "occlusion_min_overlap": the cull pass runs only in frames whose expected overlap reaches
     /// this (RenderOptions::occlusion_min_overlap); 0: always.
     float occlusion_min_overlap = render::RenderOptions{}.occlusion_min_overlap;
+    /// "occlusion_reuse": draw the last frame's shown set first where frames repeat
+    /// (RenderOptions::occlusion_reuse).
+    bool occlusion_reuse = render::RenderOptions{}.occlusion_reuse;
     bool deferred = false;
     bool shadows = false;
     bool silhouettes = false;
