@@ -111,7 +111,8 @@ void run_bounds_bench(const BoundsBenchOptions& o) {
                 "sticks in phases, nearest first, each later one culled against what the earlier drew, and writes no chains), '1ph drawn' its kept primitives;\n"
                 "'reuse': the default options with the last frame's shown set drawn first (RenderOptions::occlusion_reuse; the other columns' frames\n"
                 "interleave options in one renderer and reuse nothing), its own renderer's third and later frames; 'reuse drawn' the primitives\n"
-                "its two phases drew, 'reuse fs' its fragment-shader invocations per covered pixel, 'auto/reuse' > 1: the reuse pays\n",
+                "its two phases drew ('*': the frame did not reuse the set: drawn in phases, or too little overlap), 'reuse fs' its\n"
+                "fragment-shader invocations per covered pixel, 'auto/reuse' > 1: the reuse pays\n",
                 double(render::RenderOptions{}.occlusion_min_overlap));
     std::printf("%10s %9s %8s %8s %8s %8s %10s %10s %7s %6s %6s %6s %7s %7s %7s", o.sticks ? "sticks" : "spheres", "covered", "quad ms", "tight ms", "cull ms", "of it cp",
                 "quad/cull", "tight/cull", "drawn", "q rast", "t rast", "c rast", "q fs", "t fs", "c fs");
@@ -288,7 +289,7 @@ void run_bounds_bench(const BoundsBenchOptions& o) {
         const double t_one_phase = median(ms_one_phase);
         std::printf(" %8.1f %8.1f%% %8.2fx", t_one_phase, 100.0 * static_cast<double>(one_phase_drawn) / std::max(1, n), t_one_phase / t[2]);
         const double t_reuse = median(ms_reuse);
-        std::printf(" %8.1f %9.1f%% %8.2f %10.2fx", t_reuse, reused ? 100.0 * static_cast<double>(reuse_drawn) / std::max(1, n) : 100.0, reuse_frag / covered,
+        std::printf(" %8.1f %9.1f%%%s %8.2f %10.2fx", t_reuse, 100.0 * static_cast<double>(reuse_drawn) / std::max(1, n), reused ? "" : "*", reuse_frag / covered,
                     t_auto / t_reuse);
         if (general) {
             const double m_general = median(ms_general);
