@@ -234,7 +234,7 @@ public:
         for (ShownSet& s : shown_) {
             if (!s.buffer) api_->GenBuffers(1, &s.buffer);
             upload(s.buffer, std::vector<std::uint32_t>(std::max<std::size_t>(1, records.size())));
-            s.valid = false;
+            s.valid = s.all = false;
             s.target = 0;
         }
         reused_ = false;
@@ -522,13 +522,16 @@ public:
             draw_phase(cam, light, opt, deferred, cull_pass, ph, viewport);
             if (!ph.last()) earlier_phases_drawn_ += read_commands()[5 * render::variant_count];  // (the last phase's: `draw`)
         }
-        if (shown && !cull_pass) {  // (no cull pass: every record is drawn, so all count as shown)
+        if (shown && !cull_pass && !(shown->valid && shown->all)) {  // (no cull pass: every record is drawn, so all count as shown)
             gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, shown->buffer);
             const std::uint32_t one = 1u;
             gl.ClearBufferData(GL_SHADER_STORAGE_BUFFER, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &one);
             gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
         }
-        if (shown) shown->valid = true;
+        if (shown) {
+            shown->all = !cull_pass;
+            shown->valid = true;
+        }
         occluders_in_depth_ = false;
         gl.Enable(GL_DEPTH_CLAMP);  // (as for the primitives)
         for (ScenePass* p : passes_) p->draw(cam, light, opt, deferred);
@@ -1047,6 +1050,7 @@ private:
     struct ShownSet {
         GLuint buffer = 0, target = 0;
         bool valid = false;
+        bool all = false;  ///< every record marked shown (frames without a cull pass need not mark them again)
     };
     ShownSet shown_[2];
     int next_shown_ = 0;

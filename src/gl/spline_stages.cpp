@@ -328,7 +328,7 @@ const char* pyramid_base_shader =
 /// its `tet_occlusion_bound`; an element whose rectangle (`pixel_span`, grown by a pixel for the
 /// rasteriser's snapping) holds no pixel of the viewport, or only pixels whose drawn depths (the
 /// pyramid level where they span at most 4 x 4 texels) all lie nearer than its floor, is culled
-/// (qc_floors 2, qc_keep 0), else qc_floors = its floor, which the fragment stage tests against
+/// (qc_keep 0), else it keeps its floor (qc_floors), which the fragment stage tests against
 /// the depth drawn at its pixel; the kept ones are flagged and counted per workgroup of 64 as in
 /// the quadric renderer's cull pass, for the scan and `phase_compact_shader`.
 Stage occlusion_bound_shader(bool ortho, bool tri) {
@@ -360,26 +360,26 @@ Stage occlusion_bound_shader(bool ortho, bool tri) {
          "    bool inside = i < qc_count;\n"
          "    bool culled = true;\n"
          "    if (inside) {\n"
-         "    uint e = qc_first + i;\n"
-         "    uvec4 rec = qc_elements[e];\n"
-         "    float floor_depth;\n    vec2 lo, hi;\n    bool visible;\n";
+         "        uint e = qc_first + i;\n"
+         "        uvec4 rec = qc_elements[e];\n"
+         "        float floor_depth;\n        vec2 lo, hi;\n        bool visible;\n";
     if (tri)
-        m << "    qc_cell_occlusion_bound_" << proj << "(vec3(rec.xyz), qc_eye_index, qc_eye_world, qc_forward_world, qc_origin, qc_spacing, qc_view_proj, qc_vz_row,\n"
-             "        qc_pz, qc_pixel, floor_depth, lo, hi, visible);\n";
+        m << "        qc_cell_occlusion_bound_" << proj << "(vec3(rec.xyz), qc_eye_index, qc_eye_world, qc_forward_world, qc_origin, qc_spacing, qc_view_proj, qc_vz_row,\n"
+             "            qc_pz, qc_pixel, floor_depth, lo, hi, visible);\n";
     else
-        m << "    int t = int(rec.w & 31u);\n"
-             "    qc_tet_occlusion_bound_" << proj << "(vec3(rec.xyz), qc_tet_vertices[4 * t], qc_tet_vertices[4 * t + 1], qc_tet_vertices[4 * t + 2], qc_tet_vertices[4 * t + 3],\n"
-             "        qc_eye_index, qc_eye_world, qc_forward_world, qc_origin, qc_spacing, qc_view_proj, qc_vz_row, qc_pz, qc_pixel, floor_depth, lo, hi, visible);\n";
-    m << "    culled = false;\n"
-         "    if (visible && floor_depth > 0.0 && all(lessThan(abs(vec4(lo, hi)), vec4(64.0)))) {\n"
-         "        vec4 span;\n"
-         "        qc_pixel_span(lo, hi, qc_viewport, span);\n"
-         "        // a pixel more on each side: the rasteriser snaps the corners to its sub-pixel grid\n"
-         "        span = vec4(max(span.xy - 1.0, vec2(0.0)), min(span.zw + 1.0, qc_viewport - 1.0));\n"
-         "        if (span.x > span.z || span.y > span.w) culled = true;  // no pixel of the viewport\n"
-         "        else culled = floor_depth > uintBitsToFloat(qc_pyramid_farthest(uvec4(span)));  // behind what is drawn over all its pixels\n"
-         "    }\n"
-         "    qc_floors[e] = culled ? 2.0 : floor_depth;\n"
+        m << "        int t = int(rec.w & 31u);\n"
+             "        qc_tet_occlusion_bound_" << proj << "(vec3(rec.xyz), qc_tet_vertices[4 * t], qc_tet_vertices[4 * t + 1], qc_tet_vertices[4 * t + 2], qc_tet_vertices[4 * t + 3],\n"
+             "            qc_eye_index, qc_eye_world, qc_forward_world, qc_origin, qc_spacing, qc_view_proj, qc_vz_row, qc_pz, qc_pixel, floor_depth, lo, hi, visible);\n";
+    m << "        culled = false;\n"
+         "        if (visible && floor_depth > 0.0 && all(lessThan(abs(vec4(lo, hi)), vec4(64.0)))) {\n"
+         "            vec4 span;\n"
+         "            qc_pixel_span(lo, hi, qc_viewport, span);\n"
+         "            // a pixel more on each side: the rasteriser snaps the corners to its sub-pixel grid\n"
+         "            span = vec4(max(span.xy - 1.0, vec2(0.0)), min(span.zw + 1.0, qc_viewport - 1.0));\n"
+         "            if (span.x > span.z || span.y > span.w) culled = true;  // no pixel of the viewport\n"
+         "            else culled = floor_depth > uintBitsToFloat(qc_pyramid_farthest(uvec4(span)));  // behind what is drawn over all its pixels\n"
+         "        }\n"
+         "        qc_floors[e] = floor_depth;  // (the kept ones' go with them into the survivors' list)\n"
          "    }\n"
          "    bool kept = inside && !culled;\n"
       << detail::keep_flags_glsl("i") << "}\n";
