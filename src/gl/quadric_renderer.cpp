@@ -8,6 +8,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <iterator>
 #include <map>
 #include <memory>
@@ -146,16 +148,37 @@ public:
     /// perspective camera and forward shading only); or a pass-through stage writing a constant
     /// colour and the rasterised depth over the same bounding quads (the fill-rate ceiling).
     using FragmentStage = render::FragmentStage;
-    void set_fragment_stage(FragmentStage s) { stage_ = s; }
+    void set_fragment_stage(FragmentStage s) {
+        stage_ = s;
+        ++revision_;
+    }
     FragmentStage fragment_stage() const { return stage_; }
     /// Depth test of the primitive pass (on by default); off makes every rasterised fragment
     /// count in `samples_passed`.
-    void set_depth_test(bool on) { depth_test_ = on; }
-    void set_slab_quads(bool on) { slab_quads_ = on; }
-    void set_early_discard(bool on) { early_discard_ = on; }
-    void set_compute_bounds(bool on) { compute_bounds_ = on; }
-    void set_raster_occluders(bool on) { raster_occluders_ = on; }
-    void set_dispatch_row_limit(std::uint32_t groups) { row_limit_ = std::clamp<std::uint32_t>(groups, 1u, 65535u); }
+    void set_depth_test(bool on) {
+        depth_test_ = on;
+        ++revision_;
+    }
+    void set_slab_quads(bool on) {
+        slab_quads_ = on;
+        ++revision_;
+    }
+    void set_early_discard(bool on) {
+        early_discard_ = on;
+        ++revision_;
+    }
+    void set_compute_bounds(bool on) {
+        compute_bounds_ = on;
+        ++revision_;
+    }
+    void set_raster_occluders(bool on) {
+        raster_occluders_ = on;
+        ++revision_;
+    }
+    void set_dispatch_row_limit(std::uint32_t groups) {
+        row_limit_ = std::clamp<std::uint32_t>(groups, 1u, 65535u);
+        ++revision_;
+    }
     /// Samples that passed (GL_SAMPLES_PASSED) in the primitive pass of the last `draw`.
     std::uint64_t samples_passed() const { return samples_passed_; }
     /// Count fragment-shader invocations of the primitive pass (GL_ARB_pipeline_statistics_query,
@@ -170,14 +193,21 @@ public:
     std::uint64_t fragment_invocations() const { return fragment_invocations_; }
     /// Other geometry (e.g. isosurfaces) drawn in every pass after the primitives; `p` must
     /// outlive its use here. `clear_passes` removes them.
-    void add_pass(ScenePass& p) { passes_.push_back(&p); }
-    void clear_passes() { passes_.clear(); }
+    void add_pass(ScenePass& p) {
+        passes_.push_back(&p);
+        ++revision_;
+    }
+    void clear_passes() {
+        passes_.clear();
+        ++revision_;
+    }
 
     /// Uploads the primitives (grouped by variant). Call again when they change. Throws
     /// std::invalid_argument (quadcast::render::validate) for a primitive that cannot be drawn
     /// as it says, before anything is uploaded.
     void set_primitives(const std::vector<render::Primitive>& prims) {
         gl::validate_primitives(prims);
+        ++revision_;
         std::vector<PrimitiveRecord> records;
         std::vector<float> planes;  // 16 floats per primitive of the planes variant, in record order
         std::vector<float> occluders;  // per record its centre, render::occluder_radius, its bounding radius, render::occluder_half_axis
@@ -287,14 +317,23 @@ public:
             }
             light_cam_ = render::light_camera({}, light, lo, hi);
             ensure_shadow_map(opt.shadow_map_size);
-            gl.BindFramebuffer(GL_FRAMEBUFFER, sfbo_);
-            gl.Viewport(0, 0, shadow_size_, shadow_size_);
-            const float clear_one = 1.0f;
-            gl.ClearBufferfv(GL_DEPTH, 0, &clear_one);
-            gl.Enable(GL_DEPTH_TEST);
-            gl.DepthFunc(GL_LESS);
-            if (opt.occlusion_culling) rasterise_occluders(light_cam_, opt, shadow_size_, shadow_size_);
-            draw_primitives(light_cam_, light, opt, true, opt.occlusion_culling, stex_);  // culled from the light: what it cannot see casts no shadow
+            std::vector<std::uint64_t> key = shadow_key(opt);
+            shadow_reused_ = opt.shadow_map_reuse && shadow_valid_ && key == shadow_key_;
+            if (!shadow_reused_) {
+                gl.BindFramebuffer(GL_FRAMEBUFFER, sfbo_);
+                gl.Viewport(0, 0, shadow_size_, shadow_size_);
+                const float clear_one = 1.0f;
+                gl.ClearBufferfv(GL_DEPTH, 0, &clear_one);
+                gl.Enable(GL_DEPTH_TEST);
+                gl.DepthFunc(GL_LESS);
+                if (opt.occlusion_culling) rasterise_occluders(light_cam_, opt, shadow_size_, shadow_size_);
+                draw_primitives(light_cam_, light, opt, true, opt.occlusion_culling, stex_);  // culled from the light: what it cannot see casts no shadow
+                // Kept for the next frames where every pass tracks its revision.
+                shadow_valid_ = std::all_of(passes_.begin(), passes_.end(), [](const ScenePass* p) { return p->revision() != 0; });
+                shadow_key_ = std::move(key);
+            }
+        } else {
+            shadow_reused_ = false;
         }
         const float bg[4] = {opt.background[0], opt.background[1], opt.background[2], 1.0f};
         const float one = 1.0f;
@@ -341,6 +380,39 @@ public:
         check_errors(gl, "QuadricRenderer::draw");
         count_culled();
     }
+
+    /// What the shadow map depends on (RenderOptions::shadow_map_reuse): the light camera (the
+    /// light's direction and the bounds of the primitives and passes), the map's size, the
+    /// options that change its depths, the renderer's revision (its primitives, setters and
+    /// passes) and every pass's revision.
+    std::vector<std::uint64_t> shadow_key(const render::RenderOptions& opt) const {
+        std::vector<std::uint64_t> key;
+        auto bits = [&](float f) {
+            std::uint32_t u = 0;
+            std::memcpy(&u, &f, sizeof u);
+            key.push_back(u);
+        };
+        for (int c = 0; c < 4; ++c)
+            for (int r = 0; r < 4; ++r) {
+                bits(light_cam_.view[c][r]);
+                bits(light_cam_.projection[c][r]);
+            }
+        for (int i = 0; i < 3; ++i) bits(light_cam_.eye[i]);
+        key.push_back(light_cam_.orthographic);
+        key.push_back(static_cast<std::uint64_t>(shadow_size_));
+        key.push_back(opt.culling);
+        key.push_back(opt.tight_bounds);
+        key.push_back(opt.occlusion_culling);
+        key.push_back(revision_);
+        for (const ScenePass* p : passes_) {
+            key.push_back(reinterpret_cast<std::uintptr_t>(p));
+            key.push_back(p->revision());
+        }
+        return key;
+    }
+
+    /// Whether the last `draw` kept the shadow map of an earlier frame.
+    bool reused_shadow_map() const { return shadow_reused_; }
 
     /// `drawn_`, `frustum_culled_` and `occluded_` of the frame just drawn.
     void count_culled() {
@@ -939,6 +1011,7 @@ private:
         const Api& gl = *api_;
         release_shadow_map();
         shadow_size_ = size;
+        shadow_valid_ = false;
         gl.GenTextures(1, &stex_);
         gl.BindTexture(GL_TEXTURE_2D, stex_);
         gl.TexStorage2D(GL_TEXTURE_2D, 1, GL_DEPTH_COMPONENT32F, size, size);
@@ -1071,6 +1144,10 @@ private:
     std::shared_ptr<const render::EnvironmentMap> env_;  ///< the map in etex_
     int shadow_size_ = 0;
     render::Camera light_cam_;
+    std::uint64_t revision_ = 0;  ///< changed by every setter, `set_primitives` and the passes' list (the shadow map's key)
+    std::vector<std::uint64_t> shadow_key_;  ///< `shadow_key` of the shadow map drawn last
+    bool shadow_valid_ = false;   ///< that map may be kept (every pass tracks its revision)
+    bool shadow_reused_ = false;  ///< the last `draw` kept it
     Vec3<double> bounds_lo_{{1e300, 1e300, 1e300}}, bounds_hi_{{-1e300, -1e300, -1e300}};  ///< of the primitives' bounding spheres (the light camera)
     std::vector<ScenePass*> passes_;
     int width_ = 0, height_ = 0;
@@ -1118,6 +1195,7 @@ std::size_t QuadricRenderer::drawn_primitives() const { return impl_->drawn_prim
 bool QuadricRenderer::cull_pass_ran() const { return impl_->cull_pass_ran(); }
 int QuadricRenderer::phases() const { return impl_->phases(); }
 bool QuadricRenderer::reused_shown_set() const { return impl_->reused_shown_set(); }
+bool QuadricRenderer::reused_shadow_map() const { return impl_->reused_shadow_map(); }
 double QuadricRenderer::expected_overlap() const { return impl_->expected_overlap(); }
 std::size_t QuadricRenderer::frustum_culled() const { return impl_->frustum_culled(); }
 std::size_t QuadricRenderer::occluded() const { return impl_->occluded(); }

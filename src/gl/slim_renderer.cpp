@@ -42,11 +42,14 @@ public:
             throw std::invalid_argument("quadcast::gl::SlimRenderer: accumulation precision must be 16 or 32 bits (got " + std::to_string(bits) + ")");
         if (bits != bits_) release_targets();
         bits_ = bits;
+        ++revision_;
     }
     int precision() const { return bits_; }
+    std::uint64_t revision() const { return revision_; }
 
     void set_balls(const std::vector<render::Primitive>& balls) {
         render::validate_slim_balls(balls);
+        ++revision_;
         const Api& gl = *api_;
         std::vector<std::array<float, render::record_slots * 4>> records;
         std::vector<float> planes;
@@ -230,6 +233,7 @@ private:
     GLuint afbo_ = 0, atex_[3] = {0, 0, 0}, depth_ = 0;
     int width_ = 0, height_ = 0, bits_ = 32;
     std::size_t count_ = 0;
+    std::uint64_t revision_ = 1;  ///< changed by every setter (ScenePass::revision)
     std::vector<SlimPatch<float>> patches_host_;
     Vec3<double> lo_{{1e300, 1e300, 1e300}}, hi_{{-1e300, -1e300, -1e300}};
     GeneratedPrograms programs_{*api_, "quadcast::gl::SlimRenderer"};
@@ -247,6 +251,7 @@ void SlimRenderer::draw(const render::Camera& cam, const render::Light&, const r
 }
 void SlimRenderer::bounds(Vec3<double>& lo, Vec3<double>& hi) const { impl_->bounds(lo, hi); }
 bool SlimRenderer::needs_gbuffer() const { return impl_->ball_count() > 0; }
+std::uint64_t SlimRenderer::revision() const { return impl_->revision(); }
 void SlimRenderer::read_sums(std::vector<float>& nw, std::vector<float>& lm) const { impl_->read_sums(nw, lm); }
 
 }  // namespace quadcast::gl

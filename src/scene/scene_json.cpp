@@ -525,7 +525,7 @@ Options load_options(const JsonNode& n, const std::filesystem::path& base_dir) {
         if (const auto v = ol->get("strength")) o.outline_strength = v->number(Range::unit);
     }
     if (const auto sh = n.get("shadow")) {
-        sh->expect_keys({"map_size", "pcf_step", "bias", "comment"});
+        sh->expect_keys({"map_size", "pcf_step", "bias", "reuse", "comment"});
         if (const auto v = sh->get("map_size")) {
             const double m = v->number(Range::positive);
             if (m != std::floor(m) || m < 64 || m > 8192) v->fail("the shadow map size must be an integer in [64, 8192]", true);
@@ -537,6 +537,7 @@ Options load_options(const JsonNode& n, const std::filesystem::path& base_dir) {
             o.pcf_step = static_cast<int>(m);
         }
         if (const auto v = sh->get("bias")) o.shadow_bias = v->number(Range::nonnegative);
+        if (const auto v = sh->get("reuse")) o.shadow_map_reuse = v->boolean();
     }
     if (const auto v = n.get("culling")) o.culling = v->boolean();
     if (const auto v = n.get("tight_bounds")) o.tight_bounds = v->boolean();

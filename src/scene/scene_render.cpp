@@ -199,6 +199,7 @@ Frame build_frame(const scene::Scene& s, int width, int height) {
     if (s.options.shadow_map_size) fr.options.shadow_map_size = *s.options.shadow_map_size;
     if (s.options.pcf_step) fr.options.pcf_step = *s.options.pcf_step;
     if (s.options.shadow_bias) fr.options.shadow_bias = static_cast<float>(*s.options.shadow_bias);
+    fr.options.shadow_map_reuse = s.options.shadow_map_reuse;
     if (s.options.environment == scene::Options::Environment::file) {
         const Image img = s.options.environment_image ? *s.options.environment_image : read_png(s.options.environment_file);
         fr.options.environment = std::make_shared<const EnvironmentMap>(

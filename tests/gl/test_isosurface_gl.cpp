@@ -4,7 +4,10 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <random>
+#include <string>
+#include <vector>
 
 #include "quadcast/gl/isosurface_renderer.hpp"
 #include "quadcast/gl/osmesa_context.hpp"
@@ -283,6 +286,118 @@ TEST_CASE("isosurfaces and quadrics share the depth buffer; deferred shading dra
     CHECK(warm > 3000);
     CHECK(depth_diff == 0);
     CHECK(color_diff == 0);
+}
+
+namespace {
+
+/// A pass that draws nothing and counts its draws, with a revision the test sets.
+struct CountingPass final : gl::ScenePass {
+    std::uint64_t rev = 0;
+    int draws = 0;
+    void draw(const Camera&, const Light&, const RenderOptions&, bool) override { ++draws; }
+    void bounds(Vec3<double>& lo, Vec3<double>& hi) const override {
+        lo = vec3(-1.0, -1.0, -1.0);
+        hi = vec3(1.0, 1.0, 1.0);
+    }
+    std::uint64_t revision() const override { return rev; }
+};
+
+}  // namespace
+
+TEST_CASE("the shadow map kept across frames gives the images of a map drawn in every frame, and is drawn again when what it shows changes") {
+    // One renderer keeps its shadow map (RenderOptions::shadow_map_reuse, the default), the
+    // other draws it in every frame; both draw the same quadrics and isosurface pass, deferred
+    // with shadows and outlines, through a sequence of frames that move the camera and change
+    // the light, the primitives, the options and the passes. Every frame: the same pixels, and
+    // the map kept exactly where nothing it depends on changed.
+    gl::OsmesaContext ctx;
+    const spline::Volume<float> vol = marschner_lobb_volume(16);
+    const double h = 2.0 / 15;
+    const VolumeModel m05 = prepare_volume(vol, vec3(-1.0, -1.0, -1.0), vec3(h, h, h), VolumeScheme::qss, 0.5f, vec3(0.9f, 0.7f, 0.4f), 2, false);
+    const VolumeModel m04 = prepare_volume(vol, vec3(-1.0, -1.0, -1.0), vec3(h, h, h), VolumeScheme::qss, 0.4f, vec3(0.5f, 0.8f, 0.4f), 2, false);
+    gl::QuadricRenderer keep(ctx.api()), every(ctx.api());
+    gl::IsosurfaceRenderer iso_keep(ctx.api()), iso_every(ctx.api());
+    // Spheres over the surface (their shadows fall on it) and beside it
+    std::vector<Primitive> prims;
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> u(-1.1f, 1.1f);
+    for (int i = 0; i < 40; ++i) prims.push_back(qc_render_test::sphere(vec3(u(rng), u(rng), 1.0f + 0.4f * u(rng)), 0.12f, vec3(0.2f, 0.4f, 0.9f)));
+    std::vector<Primitive> moved = prims;
+    moved[0] = qc_render_test::sphere(vec3(0.0f, 0.0f, 1.3f), 0.35f, vec3(0.9f, 0.2f, 0.2f));
+    for (gl::QuadricRenderer* r : {&keep, &every}) r->set_primitives(prims);
+    iso_keep.add_volume(m05);
+    iso_every.add_volume(m05);
+    keep.add_pass(iso_keep);
+    every.add_pass(iso_every);
+    Light light;
+    light.direction = vec3(-0.3f, 0.5f, -1.0f);
+    RenderOptions o;
+    o.width = 200;
+    o.height = 160;
+    o.deferred = o.shadows = o.silhouettes = true;
+    Camera cam = camera(false);
+    const Camera near_cam = camera(false, 3.2), ortho_cam = camera(true);
+    CountingPass counting;
+    struct Step {
+        const char* what;
+        std::function<void()> change;
+        bool kept;
+    };
+    const std::vector<Step> steps = {
+        {"first frame", [] {}, false},
+        {"the same frame", [] {}, true},
+        {"the camera moved", [&] { cam = near_cam; }, true},
+        {"an orthographic camera", [&] { cam = ortho_cam; }, true},
+        {"the light turned", [&] { light.direction = vec3(0.4f, 0.3f, -1.0f); }, false},
+        {"the same frame", [] {}, true},
+        {"a sphere moved and grown", [&] { keep.set_primitives(moved); every.set_primitives(moved); }, false},
+        {"the same frame", [] {}, true},
+        {"the map's size", [&] { o.shadow_map_size = 1024; }, false},
+        {"back-face culling off", [&] { o.culling = false; }, false},
+        {"the same frame", [] {}, true},
+        {"the isovalue (the volume added again)", [&] {
+             for (gl::IsosurfaceRenderer* i : {&iso_keep, &iso_every}) {
+                 i->clear();
+                 i->add_volume(m04);
+             }
+         }, false},
+        {"the same frame", [] {}, true},
+        {"a pass setting", [&] { iso_keep.set_tetrahedron_culling(false); iso_every.set_tetrahedron_culling(false); }, false},
+        {"the same frame", [] {}, true},
+        {"a pass without a revision", [&] { keep.add_pass(counting); }, false},
+        {"the same frame", [] {}, false},
+        {"that pass's revision set", [&] { counting.rev = 7; }, false},
+        {"the same frame", [] {}, true},
+        {"that pass's revision changed", [&] { counting.rev = 8; }, false},
+        {"the passes cleared and added again", [&] { keep.clear_passes(); keep.add_pass(iso_keep); keep.add_pass(counting); }, false},
+        {"the same frame", [] {}, true},
+        {"a renderer setting", [&] { keep.set_slab_quads(false); every.set_slab_quads(false); }, false},
+        {"the same frame", [] {}, true},
+    };
+    RenderOptions off = o;
+    int reused = 0;
+    for (std::size_t k = 0; k < steps.size(); ++k) {
+        steps[k].change();
+        off = o;
+        off.shadow_map_reuse = false;
+        const int draws_before = counting.draws;
+        keep.draw(cam, light, o);
+        every.draw(cam, light, off);
+        const qc_render_test::ImageDiff d = qc_render_test::image_diff(keep.read(), every.read());
+        CAPTURE(k);
+        const std::string what = steps[k].what;
+        CAPTURE(what);
+        CHECK(d.covered > 3000);
+        CHECK(d.coverage_diff == 0);
+        CHECK(d.color_diff == 0);
+        CHECK(d.depth_diff == 0);
+        CHECK(keep.reused_shadow_map() == steps[k].kept);
+        CHECK_FALSE(every.reused_shadow_map());
+        // A pass draws in the shadow map's pass only where the map is drawn
+        if (counting.draws > 0) CHECK(counting.draws - draws_before == (steps[k].kept ? 1 : 2));
+        reused += keep.reused_shadow_map();
+    }
+    std::printf("[shadow map reuse] %d of %zu frames kept the map; every frame's pixels equal a map drawn in every frame\n", reused, steps.size());
 }
 
 TEST_CASE("the compute pre-pass of the coefficients draws the vertex stage's image bit for bit") {

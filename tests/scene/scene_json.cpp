@@ -9,6 +9,7 @@
 #include "helpers.hpp"
 #include "quadcast/image/image_io.hpp"
 #include "quadcast/scene/scene_json.hpp"
+#include "quadcast/scene/scene_render.hpp"
 
 using namespace quadcast::scene;
 using namespace scene_test;
@@ -472,6 +473,11 @@ TEST_CASE("options.outline and options.shadow set the outline and shadow paramet
     CHECK(*s.options.pcf_step == 1);
     CHECK(*s.options.shadow_bias == 4.0);
     CHECK_FALSE(parse(R"({"objects": []})").options.shadow_map_size.has_value());
+    CHECK(s.options.shadow_map_reuse);
+    CHECK_FALSE(parse(R"({"objects": [], "options": {"shadow": {"reuse": false}}})").options.shadow_map_reuse);
+    CHECK_FALSE(quadcast::render::build_frame(parse(R"({"objects": [{"sphere": {"center": [0, 0, 0], "radius": 1}}], "options": {"shadow": {"reuse": false}}})"), 8, 8)
+                    .options.shadow_map_reuse);
+    CHECK(quadcast::render::build_frame(parse(R"({"objects": [{"sphere": {"center": [0, 0, 0], "radius": 1}}]})"), 8, 8).options.shadow_map_reuse);
 
     ParseError e = error_of(R"({"objects": [], "options": {"outline": {"strength": 2}}})");
     CHECK(e.field() == "/options/outline/strength");
@@ -482,6 +488,8 @@ TEST_CASE("options.outline and options.shadow set the outline and shadow paramet
     CHECK(e.message().find("integer in [64, 8192]") != std::string::npos);
     e = error_of(R"({"objects": [], "options": {"shadow": {"bias": -1}}})");
     CHECK(e.field() == "/options/shadow/bias");
+    e = error_of(R"({"objects": [], "options": {"shadow": {"reuse": "yes"}}})");
+    CHECK(e.field() == "/options/shadow/reuse");
 }
 
 TEST_CASE("options.tight_bounds switches the tight screen rectangles and must be a boolean") {

@@ -293,6 +293,26 @@ int run_render(const RenderArgs& a) {
             }
             std::printf("%s: %zu primitives, %dx%d, median frame %.2f ms over %d frames (%s)\n", a.scene.c_str(), primitive_count, a.width,
                         a.height, median(ms), a.frames, ctx->info().renderer.c_str());
+            if (fr.options.shadows && fr.options.shadow_map_reuse) {
+                // The shadow map kept from earlier frames against drawn in every frame, interleaved
+                // (the kept frames last, so that what is printed below is theirs).
+                render::RenderOptions redraw = fr.options;
+                redraw.shadow_map_reuse = false;
+                std::vector<double> kept, drawn;
+                bool every_kept = true;
+                for (int i = 0; i < a.frames; ++i) {
+                    auto t0 = std::chrono::steady_clock::now();
+                    r.draw(fr.camera, fr.light, redraw);
+                    drawn.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+                    t0 = std::chrono::steady_clock::now();
+                    r.draw(fr.camera, fr.light, fr.options);
+                    kept.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+                    every_kept = every_kept && r.reused_shadow_map();
+                }
+                std::printf("%s: shadow map %s: median frame %.2f ms; drawn in every frame (\"shadow\": {\"reuse\": false}) %.2f ms; %.2fx, %d pairs interleaved\n",
+                            a.scene.c_str(), every_kept ? "kept from the first frame" : "drawn again in some frames", median(kept), median(drawn),
+                            median(drawn) / median(kept), a.frames);
+            }
             if (slim.ball_count() > 0) {
                 std::printf("%s: %zu SLIM balls, three passes, %d-bit float accumulation targets", a.scene.c_str(), slim.ball_count(), slim.precision());
                 if (fr.options.culling) {

@@ -69,17 +69,26 @@ public:
     IsosurfaceRenderer& operator=(const IsosurfaceRenderer&) = delete;
 
     /// Frustum culling of the octree nodes (on by default); off draws every relevant element.
-    void set_frustum_culling(bool on) { frustum_culling_ = on; }
+    void set_frustum_culling(bool on) {
+        frustum_culling_ = on;
+        ++revision_;
+    }
     /// Skipping the tetrahedra of an active cube whose own coefficient range misses ρ (on by
     /// default); off draws all 24 tetrahedra of every selected cube.
-    void set_tetrahedron_culling(bool on) { tet_culling_ = on; }
+    void set_tetrahedron_culling(bool on) {
+        tet_culling_ = on;
+        ++revision_;
+    }
 
     /// Where a tetrahedron's BB-coefficients are rebuilt from the determining set: in the vertex
     /// stage, once per vertex (the paper's way, default), or in a compute pre-pass once per drawn
     /// tetrahedron into a storage buffer the vertex stage reads (same traced averaging, same
     /// numbers; llvmpipe runs vertex shaders on one thread but compute shaders on all).
     enum class CoefficientStage { vertex, compute };
-    void set_coefficient_stage(CoefficientStage s) { coeff_stage_ = s; }
+    void set_coefficient_stage(CoefficientStage s) {
+        coeff_stage_ = s;
+        ++revision_;
+    }
 
     /// Where the frame's element list is built: on the CPU (the default), where the min-max
     /// octree's hierarchical frustum test selects the cubes and their elements are uploaded each
@@ -95,17 +104,22 @@ public:
     /// per-element compute passes costing about what the octree and the upload cost, and it keeps
     /// 36 B per relevant element on the GPU against 16 B per drawn one.
     enum class ElementList { gpu, cpu };
-    void set_element_list(ElementList l) { element_list_ = l; }
+    void set_element_list(ElementList l) {
+        element_list_ = l;
+        ++revision_;
+    }
 
     /// Elements per draw call (default and upper limit 65536, the index buffer's size; at least
     /// 1). A test switch: smaller batches give the same picture.
     void set_batch_elements(std::size_t n) {
         batch_elements = std::clamp<std::size_t>(n, 1, 65536);
+        ++revision_;
         for (Volume& v : volumes_) v.index_capacity = 0;  // (remade at the new size)
     }
 
     /// Adds a volume; `m` must outlive the renderer's use of it (its octree is consulted per
-    /// frame). Uploads its determining sets (or samples). Throws std::invalid_argument for an
+    /// frame) and must not change while it is added (its data is uploaded here: `clear` and add
+    /// it again). Uploads its determining sets (or samples). Throws std::invalid_argument for an
     /// empty or inconsistent model.
     void add_volume(const render::VolumeModel& m) {
         const Api& gl = *api_;
@@ -133,12 +147,14 @@ public:
         if (tri) v.relevant = m.active;
         gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
         volumes_.push_back(v);
+        ++revision_;
     }
 
     /// Removes every volume.
     void clear() {
         for (Volume& v : volumes_) release(v);
         volumes_.clear();
+        ++revision_;
     }
 
     /// Statistics of volume i in the last `draw`.
@@ -158,6 +174,9 @@ public:
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, 0);
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, 0);
     }
+
+    /// Changes with every call that changes what is drawn (the setters above, `add_volume`, `clear`).
+    std::uint64_t revision() const override { return revision_; }
 
     void bounds(Vec3<double>& lo, Vec3<double>& hi) const override {
         lo = Vec3<double>{{1e300, 1e300, 1e300}};
@@ -687,6 +706,7 @@ private:
     bool frustum_culling_ = true, tet_culling_ = true;
     CoefficientStage coeff_stage_ = CoefficientStage::vertex;
     ElementList element_list_ = ElementList::cpu;
+    std::uint64_t revision_ = 1;
     /// The occlusion test's copy of the depth buffer, and the texture unit it is read from.
     static constexpr GLuint drawn_unit = 7;
     struct DepthCopy {

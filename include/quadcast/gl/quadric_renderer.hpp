@@ -131,6 +131,9 @@ public:
     /// Whether the last `draw`'s camera pass drew the last frame's shown set first
     /// (RenderOptions::occlusion_reuse).
     bool reused_shown_set() const;
+    /// Whether the last `draw` kept the shadow map of an earlier frame instead of drawing it
+    /// (RenderOptions::shadow_map_reuse).
+    bool reused_shadow_map() const;
     /// The expected overlap (render::expected_overlap) the last camera pass decided on; 0 where
     /// it did not estimate one (occlusion culling off, occlusion_min_overlap 0, phased drawing).
     double expected_overlap() const;

@@ -1,6 +1,8 @@
 // quadcast/gl/scene_pass.hpp -- geometry drawn by another renderer in the quadric renderer's passes
 #pragma once
 
+#include <cstdint>
+
 #include "quadcast/linalg.hpp"
 #include "quadcast/render/types.hpp"
 
@@ -22,6 +24,12 @@ public:
     /// True when the pass draws only into the geometry buffer (the SLIM renderer's blending): the
     /// quadric renderer then shades the frame deferred (the same image as forward shading).
     virtual bool needs_gbuffer() const { return false; }
+    /// A number that changes whenever what `draw` draws for a given camera and options may
+    /// change (the pass's geometry or settings). The quadric renderer keeps its shadow map across
+    /// frames while the light, its own primitives and every pass's revision stay the same
+    /// (RenderOptions::shadow_map_reuse). 0, the default: not tracked, and the shadow map is
+    /// drawn again in every frame.
+    virtual std::uint64_t revision() const { return 0; }
 };
 
 }  // namespace quadcast::gl

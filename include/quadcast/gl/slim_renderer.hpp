@@ -58,6 +58,8 @@ public:
     void draw(const render::Camera& cam, const render::Light& light, const render::RenderOptions& opt, bool gbuffer) override;
     void bounds(Vec3<double>& lo, Vec3<double>& hi) const override;
     bool needs_gbuffer() const override;
+    /// Changes with every `set_balls` and `set_precision`.
+    std::uint64_t revision() const override;
 
     /// The accumulation targets of the last draw, rows top first like render::Image: per pixel
     /// (sum w n, sum w) and (sum w lambda, sum w specular, sum w shininess, 0), as floats.

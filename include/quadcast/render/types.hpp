@@ -139,6 +139,13 @@ struct RenderOptions {
     int shadow_map_size = 2048;   ///< texels per side
     int pcf_step = 2;             ///< texels between PCF samples (footprint (7 step) x (7 step))
     float shadow_bias = 10.0f;    ///< depth bias in shadow-map texels (light window depth shadow_bias / shadow_map_size)
+    /// GL: keep the shadow map across frames. Its light camera is fitted to the scene's bounds and
+    /// the light's direction, not to the view, so a frame draws it again only when something it
+    /// depends on changed: the light, the map's size, `culling` or `tight_bounds`, the primitives
+    /// (QuadricRenderer::set_primitives and its other setters), the passes or a pass's revision
+    /// (ScenePass::revision; a pass that does not track one makes every frame draw it). The camera
+    /// may move. The same picture either way.
+    bool shadow_map_reuse = true;
     /// Environment reflection (`reflect_environment` in quadcast/render/environment.hpp): the
     /// mirror direction of the view ray looks up this image (bilinear) and the result is mixed
     /// into the Blinn-Phong colour by `reflectivity`. None: no reflection.

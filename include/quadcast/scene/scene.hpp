@@ -161,9 +161,11 @@ struct Options {
     /// defaults.
     std::optional<double> outline_depth, outline_crease, outline_strength;
     /// "shadow": {"map_size": texels per side, "pcf_step": texels between PCF samples, "bias":
-    /// in shadow-map texels}; absent: the renderer's defaults.
+    /// in shadow-map texels, "reuse": keep the map across frames (RenderOptions::shadow_map_reuse)};
+    /// absent: the renderer's defaults.
     std::optional<int> shadow_map_size, pcf_step;
     std::optional<double> shadow_bias;
+    bool shadow_map_reuse = render::RenderOptions{}.shadow_map_reuse;
     Vec3d background{{1.0, 1.0, 1.0}};
     /// Environment reflection ("environment": {"file" | "procedural", "reflectivity"}): a
     /// latitude-longitude PNG (resolved path) or the built-in sky (colours, defaults of
