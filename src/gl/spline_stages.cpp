@@ -330,7 +330,9 @@ const char* pyramid_base_shader =
 /// pyramid level where they span at most 4 x 4 texels) all lie nearer than its floor, is culled
 /// (qc_keep 0), else it keeps its floor (qc_floors), which the fragment stage tests against
 /// the depth drawn at its pixel; the kept ones are flagged and counted per workgroup of 64 as in
-/// the quadric renderer's cull pass, for the scan and `phase_compact_shader`.
+/// the quadric renderer's cull pass, for the scan and `phase_compact_shader`. Whether each element
+/// was culled goes to qc_passed (the next frame's shown set, RenderOptions::occlusion_reuse); the
+/// elements before qc_draw_from (drawn already: the shown set) are tested, never kept.
 Stage occlusion_bound_shader(bool ortho, bool tri) {
     Stage s;
     std::ostringstream fns;
@@ -343,6 +345,7 @@ Stage occlusion_bound_shader(bool ortho, bool tri) {
       << "layout(std430, binding = 3) readonly buffer qc_Depths { uint qc_depth[]; };  // the max-depth pyramid\n"
          "layout(std430, binding = 10) writeonly buffer qc_Floors { float qc_floors[]; };\n"
          "uniform uint qc_count;        // the phase's elements, from qc_first on\n"
+         "uniform uint qc_draw_from;    // of these, the first that may be kept (the ones before it are drawn already)\n"
          "uniform vec4 qc_pz;           // P22, P32, P23, P33 of the projection\n"
          "uniform float qc_pixel;       // a pixel's angle (perspective) or world width (orthographic): 2 / (P11 height)\n"
          "uniform vec2 qc_viewport;     // width, height\n"
@@ -350,6 +353,7 @@ Stage occlusion_bound_shader(bool ortho, bool tri) {
          "uniform int qc_level_count;\n\n"
       << "layout(std430, binding = 6) writeonly buffer qc_Keep { uint qc_keep[]; };     // per element of the phase: 0 culled, else 1 + its slot in the workgroup\n"
          "layout(std430, binding = 7) writeonly buffer qc_Groups { uint qc_groups[]; };  // per workgroup of 64 elements: the kept ones\n"
+         "layout(std430, binding = 13) writeonly buffer qc_Passed { uint qc_passed[]; };  // per element of the phase: 1 not culled (the next frame's shown set)\n"
          "shared uint qc_flags[64];\n\n"
       << (tri ? std::string() : tet_vertex_table() + "\n") << fns.str() << detail::pyramid_farthest_glsl(4)
       << "void main()\n{\n"
@@ -380,8 +384,9 @@ Stage occlusion_bound_shader(bool ortho, bool tri) {
          "            else culled = floor_depth > uintBitsToFloat(qc_pyramid_farthest(uvec4(span)));  // behind what is drawn over all its pixels\n"
          "        }\n"
          "        qc_floors[e] = floor_depth;  // (the kept ones' go with them into the survivors' list)\n"
+         "        qc_passed[i] = culled ? 0u : 1u;\n"
          "    }\n"
-         "    bool kept = inside && !culled;\n"
+         "    bool kept = inside && !culled && i >= qc_draw_from;\n"
       << detail::keep_flags_glsl("i") << "}\n";
     s.text = m.str();
     return s;

@@ -472,6 +472,7 @@ TEST_CASE("occlusion culling of isosurface tetrahedra leaves every image unchang
                 for (auto list : {gl::IsosurfaceRenderer::ElementList::cpu, gl::IsosurfaceRenderer::ElementList::gpu}) {
                     RenderOptions o;
                     o.occlusion_min_overlap = 0.0f;  // (the quadric cull pass too, however sparse the primitives)
+                    o.occlusion_reuse = false;       // (the phases themselves; reuse: the next test)
                     o.width = 200;
                     o.height = 160;
                     o.deferred = deferred;
@@ -511,6 +512,84 @@ TEST_CASE("occlusion culling of isosurface tetrahedra leaves every image unchang
                         if (std::string(view.name) == "close up") CHECK(st.occluded * (s == VolumeScheme::trilinear ? 2 : 4) > later * (s == VolumeScheme::trilinear ? 1 : 3));
                     }
                 }
+    }
+}
+
+TEST_CASE("reusing the last frame's shown set of isosurface elements changes no pixel as the camera moves, and draws fewer elements") {
+    // Frames repeat in one renderer (RenderOptions::occlusion_reuse, the default, CPU list): each
+    // draws the elements that passed the last frame's test first, then tests every element
+    // against that depth and draws the rest that pass. Every frame, while the camera jumps
+    // between views and back, against a renderer without occlusion culling, bit for bit; forward
+    // and deferred with shadows and silhouettes (the shadow map's set is its own, by framebuffer),
+    // coefficients in the vertex stage and in the pre-pass; QSS, S31, trilinear.
+    gl::OsmesaContext ctx;
+    const spline::Volume<float> vol = marschner_lobb_volume(28);
+    const double h = 2.0 / 27;
+    Light light;
+    light.direction = vec3(-0.3f, 0.5f, -1.0f);
+    const Camera whole = camera(false), ortho = camera(true);
+    const Camera close = qc_render_test::look_at(vec3(0.5, -0.9, 0.9), vec3(0.3, 0.0, 0.2), vec3(0.0, 0.0, 1.0), qc_render_test::perspective(35, 200.0 / 160.0, 0.05, 10));
+    const Camera inside = qc_render_test::look_at(vec3(0.1, -0.2, 0.3), vec3(0.8, 0.5, -0.2), vec3(0.0, 0.0, 1.0), qc_render_test::perspective(60, 200.0 / 160.0, 0.2, 10));
+    const Camera turned = qc_render_test::look_at(vec3(1.6, -1.5, 2.6), vec3(0.0, 0.0, 0.0), vec3(0.0, 0.0, 1.0), qc_render_test::perspective(40, 200.0 / 160.0, 0.5, 10));
+    const Camera* frames[] = {&whole, &whole, &whole, &turned, &close, &close, &inside, &ortho, &ortho, &whole};
+    for (VolumeScheme s : {VolumeScheme::qss, VolumeScheme::s31, VolumeScheme::trilinear}) {
+        const spline::Volume<float> vs = s == VolumeScheme::trilinear ? marschner_lobb_volume(64) : vol;
+        const double hs = s == VolumeScheme::trilinear ? 2.0 / 63 : h;
+        const VolumeModel m = prepare_volume(vs, vec3(-1.0, -1.0, -1.0), vec3(hs, hs, hs), s, 0.5f, vec3(0.9f, 0.7f, 0.4f), 2, false);
+        gl::QuadricRenderer qr(ctx.api()), plain(ctx.api());
+        gl::IsosurfaceRenderer iso(ctx.api()), iso_plain(ctx.api());
+        for (gl::QuadricRenderer* r : {&qr, &plain}) r->set_primitives({qc_render_test::sphere(vec3(0.3f, -0.6f, 0.7f), 0.25f, vec3(0.2f, 0.4f, 0.9f))});
+        iso.add_volume(m);
+        iso_plain.add_volume(m);
+        qr.add_pass(iso);
+        plain.add_pass(iso_plain);
+        for (bool deferred : {false, true}) {
+            iso.set_coefficient_stage(deferred ? gl::IsosurfaceRenderer::CoefficientStage::compute : gl::IsosurfaceRenderer::CoefficientStage::vertex);
+            RenderOptions o;
+            o.width = 200;
+            o.height = 160;
+            o.deferred = o.shadows = o.silhouettes = deferred;
+            RenderOptions off = o;
+            off.occlusion_culling = false;
+            int reused = 0;
+            std::size_t drawn_reuse = 0, drawn_phases = 0;
+            for (std::size_t f = 0; f < std::size(frames); ++f) {
+                qr.draw(*frames[f], light, o);
+                const Image on = qr.read();
+                const gl::IsoDrawStats st = iso.stats(0);
+                plain.draw(*frames[f], light, off);
+                const qc_render_test::ImageDiff d = qc_render_test::image_diff(on, plain.read());
+                CAPTURE(render::volume_scheme_name(s));
+                CAPTURE(deferred);
+                CAPTURE(f);
+                CHECK(d.covered > 5000);
+                CHECK(d.coverage_diff == 0);
+                CHECK(d.color_diff == 0);
+                CHECK(d.depth_diff == 0);
+                CHECK(st.phases == (st.reused ? 2 : 3));
+                // The frame after the first of a view reuses its set (the first of all records it)
+                if (f > 0) CHECK(st.reused);
+                reused += st.reused;
+                if (f == 0) drawn_phases = st.elements - st.occluded;
+                if (f == 2) drawn_reuse = st.elements - st.occluded;
+            }
+            std::printf("[iso gl] reuse, %s%s: %d of %zu frames reused the shown set; the first view drew %zu elements in 3 phases, %zu reusing the set\n",
+                        render::volume_scheme_name(s), deferred ? " deferred+shadows" : "", reused, std::size(frames), drawn_phases, drawn_reuse);
+            CHECK(drawn_reuse < drawn_phases);
+        }
+        // Switched off, or with the GPU list: phases only
+        RenderOptions o;
+        o.width = 200;
+        o.height = 160;
+        o.occlusion_reuse = false;
+        qr.draw(whole, light, o);
+        qr.draw(whole, light, o);
+        CHECK_FALSE(iso.stats(0).reused);
+        o.occlusion_reuse = true;
+        iso.set_element_list(gl::IsosurfaceRenderer::ElementList::gpu);
+        qr.draw(whole, light, o);
+        qr.draw(whole, light, o);
+        CHECK_FALSE(iso.stats(0).reused);
     }
 }
 

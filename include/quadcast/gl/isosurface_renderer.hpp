@@ -49,6 +49,7 @@ struct IsoDrawStats {
     std::size_t nodes_visited = 0;   ///< octree nodes tested
     int phases = 0;                  ///< phases drawn (occlusion culling: each later one tested against the earlier ones' depth)
     std::size_t occluded = 0;        ///< elements of the later phases culled behind the earlier ones
+    bool reused = false;             ///< the last frame's shown set was drawn first (RenderOptions::occlusion_reuse)
 };
 
 /// Draws the isosurfaces of prepared volumes (`render::prepare_volume`, with or without CPU
@@ -199,6 +200,17 @@ private:
         // `survivor_floors`, at the phase's slots), the bound pass's flags and workgroup counts,
         // and the kept count the scan writes.
         GLuint survivors = 0, survivor_floors = 0, phase_keep = 0, phase_groups = 0, phase_count = 0;
+        GLuint passed = 0;  ///< the bound pass's per-element results (not culled: 1), for the shown set
+        /// RenderOptions::occlusion_reuse (the CPU list): per depth target (the bound framebuffer)
+        /// whether each element (`element_id`) passed its last test against what was drawn.
+        struct ShownSet {
+            GLint fbo = -1;
+            bool valid = false;
+            std::vector<std::uint64_t> bits;
+        };
+        ShownSet shown[2];
+        int next_shown = 0;
+        std::vector<std::uint32_t> ids;  ///< the frame's elements' `element_id`s, in list order
         std::size_t floor_capacity = 0;  ///< elements `floors`, `survivors`, ... hold
         std::size_t index_capacity = 0;  ///< elements the index buffer covers
         std::size_t element_capacity = 0, coeff_capacity = 0;  ///< elements `elements` and `coeffs` hold (grown only: a large
@@ -225,7 +237,7 @@ private:
 
     void release(Volume& v) {
         v.floor_capacity = v.element_capacity = v.coeff_capacity = 0;
-        for (GLuint* b : {&v.data, &v.elements, &v.indices, &v.coeffs, &v.floors, &v.survivors, &v.survivor_floors, &v.phase_keep, &v.phase_groups, &v.phase_count, &v.all, &v.listed, &v.keep, &v.groups, &v.count, &v.cubes, &v.cube_kept}) {
+        for (GLuint* b : {&v.data, &v.elements, &v.indices, &v.coeffs, &v.floors, &v.survivors, &v.survivor_floors, &v.phase_keep, &v.phase_groups, &v.phase_count, &v.passed, &v.all, &v.listed, &v.keep, &v.groups, &v.count, &v.cubes, &v.cube_kept}) {
             if (*b) api_->DeleteBuffers(1, b);
             *b = 0;
         }
@@ -398,7 +410,7 @@ private:
     /// into `survivors` and `survivor_floors` from slot `first` on; their count into `kept`.
     /// False when the viewport is too large for 16 levels.
     bool cull_phase(Volume& v, const render::Camera& cam, const render::Light& light, const render::RenderOptions& opt, std::size_t first, std::size_t count,
-                    std::size_t& kept) {
+                    std::size_t& kept, std::size_t draw_from = 0) {
         const Api& gl = *api_;
         GLint vp[4] = {0, 0, 0, 0};
         gl.GetIntegerv(GL_VIEWPORT, vp);
@@ -424,11 +436,13 @@ private:
         set_uniforms(cp, *v.model, cam, light, opt);
         gl.Uniform1ui(cp.uniform_location("qc_first"), static_cast<GLuint>(first));
         gl.Uniform1ui(cp.uniform_location("qc_count"), static_cast<GLuint>(count));
+        gl.Uniform1ui(cp.uniform_location("qc_draw_from"), static_cast<GLuint>(draw_from));
         gl.Uniform2f(cp.uniform_location("qc_viewport"), float(vp[2]), float(vp[3]));
         set_pyramid_uniforms(gl, cp, levels);
         const auto groups = static_cast<std::uint32_t>((count + 63) / 64);
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, v.phase_keep);
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, v.phase_groups);
+        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 13, v.passed);
         dispatch_rows(gl, groups);
         gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
         // The kept elements in order into the survivors' list (the quadric renderer's scan)
@@ -448,7 +462,7 @@ private:
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 12, v.survivor_floors);
         dispatch_rows(gl, groups);
         gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
-        for (GLuint b : {5u, 6u, 7u, 11u, 12u}) gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, b, 0);
+        for (GLuint b : {5u, 6u, 7u, 11u, 12u, 13u}) gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, b, 0);
         std::uint32_t k = 0;
         gl.GetNamedBufferSubData(v.phase_count, 0, sizeof k, &k);
         kept = k;
@@ -459,7 +473,33 @@ private:
         const Api& gl = *api_;
         const render::VolumeModel& m = *v.model;
         const bool tri = m.scheme == render::VolumeScheme::trilinear;
-        const std::size_t n = element_list_ == ElementList::gpu ? gpu_select(v, cam) : cpu_select(v, cam);
+        // Occlusion culling (tetrahedra): the elements in phases, nearest first; before each later
+        // one, the depth drawn so far is copied for the fragment stage's test of its element's
+        // depth floor, which a compute pass computes first.
+        // (The tests drop only what the depth test would: only with the depth test on, LESS or LEQUAL.)
+        GLint depth_func = GL_NONE;
+        gl.GetIntegerv(GL_DEPTH_FUNC, &depth_func);
+        const bool depth_tested = gl.IsEnabled(GL_DEPTH_TEST) && (depth_func == GL_LESS || depth_func == GL_LEQUAL);
+        const bool cull = opt.occlusion_culling && depth_tested && std::clamp(opt.occlusion_phases, 1, 8) > 1;
+        // Reuse of the last frame's shown set (RenderOptions::occlusion_reuse; the CPU list, per
+        // bound framebuffer): the set's elements are drawn first, then every element is tested
+        // against that depth and the rest that pass are drawn; the results are the next frame's
+        // set. A frame without a valid set draws in phases and records the set after them.
+        Volume::ShownSet* shown = nullptr;
+        if (cull && opt.occlusion_reuse && element_list_ == ElementList::cpu) {
+            GLint fbo = 0;
+            gl.GetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &fbo);
+            for (Volume::ShownSet& k : v.shown)
+                if (k.fbo == fbo) shown = &k;
+            if (!shown) {
+                shown = &v.shown[v.next_shown];
+                v.next_shown = 1 - v.next_shown;
+                shown->fbo = fbo;
+                shown->valid = false;
+            }
+        }
+        std::size_t first_shown = 0;  // the shown set's elements lead the list
+        const std::size_t n = element_list_ == ElementList::gpu ? gpu_select(v, cam) : cpu_select(v, cam, shown && shown->valid ? shown : nullptr, first_shown);
         if (n == 0) return;
         ensure_indices(v, std::min(n, batch_elements), tri);
         gl.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, v.indices);
@@ -486,21 +526,16 @@ private:
             dispatch_rows(gl, static_cast<std::uint32_t>((count + 63) / 64));
             gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
         };
-        // Occlusion culling (tetrahedra): the elements in phases, nearest first; before each later
-        // one, the depth drawn so far is copied for the fragment stage's test of its element's
-        // depth floor, which a compute pass computes first.
-        // (The tests drop only what the depth test would: only with the depth test on, LESS or LEQUAL.)
-        GLint depth_func = GL_NONE;
-        gl.GetIntegerv(GL_DEPTH_FUNC, &depth_func);
-        const bool depth_tested = gl.IsEnabled(GL_DEPTH_TEST) && (depth_func == GL_LESS || depth_func == GL_LEQUAL);
-        const std::vector<std::size_t> ends = phase_ends(n, opt.occlusion_culling && depth_tested ? opt.occlusion_phases : 1);
+        const bool reuse = shown && shown->valid && n >= 4096;
+        const std::vector<std::size_t> ends = reuse ? std::vector<std::size_t>{first_shown, n} : phase_ends(n, cull ? opt.occlusion_phases : 1);
         const bool occlusion = ends.size() > 1;
         if (occlusion && n > v.floor_capacity) {
             v.floor_capacity = std::max(n, 2 * v.floor_capacity);
             const std::size_t cap = v.floor_capacity, groups = (cap + 63) / 64;
             for (const auto& [b, bytes] : {std::pair<GLuint*, std::size_t>{&v.floors, cap * sizeof(float)}, {&v.survivors, cap * 4 * sizeof(std::uint32_t)},
                                            {&v.survivor_floors, cap * sizeof(float)}, {&v.phase_keep, cap * sizeof(std::uint32_t)},
-                                           {&v.phase_groups, groups * sizeof(std::uint32_t)}, {&v.phase_count, sizeof(std::uint32_t)}}) {
+                                           {&v.phase_groups, groups * sizeof(std::uint32_t)}, {&v.phase_count, sizeof(std::uint32_t)},
+                                           {&v.passed, cap * sizeof(std::uint32_t)}}) {
                 if (!*b) gl.GenBuffers(1, b);
                 gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, *b);
                 gl.BufferData(GL_SHADER_STORAGE_BUFFER, static_cast<GLsizeiptr>(bytes), nullptr, GL_DYNAMIC_COPY);
@@ -519,31 +554,59 @@ private:
         std::size_t first = 0;
         v.stats.phases = 0;
         v.stats.occluded = 0;
+        v.stats.reused = reuse;
         const GLuint list = element_list_ == ElementList::gpu ? v.listed : v.elements;
+        // The bound pass over the whole list, against the depth drawn so far, only recording which
+        // elements pass (the shown set) where `draw_from` is n, or keeping those from `draw_from` on.
+        bool recorded = false;
+        const auto test_all = [&](std::size_t draw_from, std::size_t& kept) {
+            gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, list);
+            gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 10, v.floors);
+            if (!copy_drawn_depth() || !cull_phase(v, cam, light, opt, 0, n, kept, draw_from)) return false;
+            read_shown(v, *shown, n);
+            recorded = true;
+            return true;
+        };
         for (std::size_t end : ends) {
             // A later phase tested against the depth drawn so far draws only its kept elements
-            // (`survivors`, from slot `first` on), each with its depth floor.
-            std::size_t kept = end - first;
+            // (`survivors`, from slot `first` on), each with its depth floor. Reusing the shown set,
+            // the second phase tests every element (the shown ones for the next frame's set) and
+            // keeps the rest that pass, into the survivors' list from slot 0 on.
+            std::size_t kept = end - first, slot = first;
             bool test = false;
             if (occlusion && first > 0) {
-                gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, list);
-                gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 10, v.floors);
-                test = copy_drawn_depth() && cull_phase(v, cam, light, opt, first, end - first, kept);
+                if (reuse) {
+                    test = test_all(first, kept);
+                    slot = 0;
+                } else {
+                    gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, list);
+                    gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 10, v.floors);
+                    test = copy_drawn_depth() && cull_phase(v, cam, light, opt, first, end - first, kept);
+                }
                 if (test) {
                     v.stats.occluded += end - first - kept;
                     gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, v.survivors);
                     gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 10, v.survivor_floors);
+                } else {
+                    slot = first;
+                    kept = end - first;
                 }
             }
-            if (pre) precompute(first, kept);
+            if (pre) precompute(slot, kept);
             gl.UseProgram(prog.id());
             gl.Uniform1i(prog.uniform_location("qc_occlusion"), test ? 1 : 0);
-            for (std::size_t b = first; b < first + kept; b += std::min(batch_elements, first + kept - b))
-                gl.DrawElementsBaseVertex(GL_TRIANGLES, static_cast<GLsizei>(std::min(batch_elements, first + kept - b) * (tri ? 36 : 12)), GL_UNSIGNED_INT, nullptr,
+            for (std::size_t b = slot; b < slot + kept; b += std::min(batch_elements, slot + kept - b))
+                gl.DrawElementsBaseVertex(GL_TRIANGLES, static_cast<GLsizei>(std::min(batch_elements, slot + kept - b) * (tri ? 36 : 12)), GL_UNSIGNED_INT, nullptr,
                                           static_cast<GLint>(b * per));
             first = end;
             ++v.stats.phases;
         }
+        // A frame without a valid set records it: which elements pass against the whole depth drawn.
+        if (shown && !recorded && occlusion) {
+            std::size_t none = 0;
+            test_all(n, none);
+        }
+        if (shown) shown->valid = recorded;
         if (occlusion) {
             gl.BindTextureUnit(drawn_unit, 0);
             gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, 0);
@@ -552,11 +615,50 @@ private:
         if (pre) gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, 0);
     }
 
+    /// The stable id of an element record (cube slot << 5 | tetrahedron, or the cell's index).
+    static std::uint32_t element_id(const render::VolumeModel& m, const std::uint32_t* rec) {
+        if (m.scheme != render::VolumeScheme::trilinear) return rec[3];
+        const auto nx = static_cast<std::uint32_t>(m.octree.level(0).nx), ny = static_cast<std::uint32_t>(m.octree.level(0).ny);
+        return rec[0] + nx * (rec[1] + ny * rec[2]);
+    }
+
+    /// The bound pass's results over the frame's n elements into the shown set (by `element_id`).
+    void read_shown(Volume& v, Volume::ShownSet& set, std::size_t n) const {
+        std::vector<std::uint32_t> passed(n);
+        api_->GetNamedBufferSubData(v.passed, 0, static_cast<GLsizeiptr>(n * sizeof(std::uint32_t)), passed.data());
+        std::fill(set.bits.begin(), set.bits.end(), 0);
+        for (std::size_t i = 0; i < n; ++i) {
+            if (!passed[i]) continue;
+            const std::uint32_t id = v.ids[i];
+            if (id / 64 >= set.bits.size()) set.bits.resize(id / 64 + 1, 0);
+            set.bits[id / 64] |= std::uint64_t(1) << (id % 64);
+        }
+    }
+
     /// The CPU element list: the octree's selection, uploaded into `elements`; its count.
-    std::size_t cpu_select(Volume& v, const render::Camera& cam) {
-        const std::vector<std::uint32_t> rec = select(v, cam);
+    /// With a shown set, the set's elements first (each part in its order); their count into
+    /// `first_shown`. The elements' `element_id`s into v.ids.
+    std::size_t cpu_select(Volume& v, const render::Camera& cam, const Volume::ShownSet* shown, std::size_t& first_shown) {
+        std::vector<std::uint32_t> rec = select(v, cam);
+        first_shown = 0;
         if (rec.empty()) return 0;
         const std::size_t n = rec.size() / 4;
+        v.ids.resize(n);
+        for (std::size_t i = 0; i < n; ++i) v.ids[i] = element_id(*v.model, &rec[4 * i]);
+        if (shown) {
+            const auto is_shown = [&](std::uint32_t id) { return id / 64 < shown->bits.size() && (shown->bits[id / 64] >> (id % 64) & 1u); };
+            std::vector<std::uint32_t> ordered(rec.size()), ids(n);
+            for (std::size_t i = 0; i < n; ++i)
+                first_shown += is_shown(v.ids[i]);
+            std::size_t a = 0, b = first_shown;
+            for (std::size_t i = 0; i < n; ++i) {
+                std::size_t& to = is_shown(v.ids[i]) ? a : b;
+                std::copy(&rec[4 * i], &rec[4 * i] + 4, &ordered[4 * to]);
+                ids[to++] = v.ids[i];
+            }
+            rec.swap(ordered);
+            v.ids.swap(ids);
+        }
         api_->BindBuffer(GL_SHADER_STORAGE_BUFFER, v.elements);
         if (n > v.element_capacity) {
             v.element_capacity = n + n / 8;
