@@ -508,7 +508,7 @@ const char* element_compact_shader =
 
 /// Occlusion culling of a later phase, after the bound pass and the quadric renderer's scan
 /// (OcclusionPass::scan): the phase's kept elements, in order, with their depth floors, into the
-/// survivors' list from the phase's first slot on, which the phase then draws (the culled ones
+/// survivors' list from slot qc_to on (the phase's first kept element's slot), which the phase then draws (the culled ones
 /// cost no vertex work).
 const char* phase_compact_shader =
     "layout(local_size_x = 64) in;\n\n"
@@ -519,14 +519,15 @@ const char* phase_compact_shader =
     "layout(std430, binding = 11) writeonly buffer qc_Survivors { uvec4 qc_survivors[]; };\n"
     "layout(std430, binding = 12) writeonly buffer qc_SurvivorFloors { float qc_survivor_floors[]; };\n"
     "uniform uint qc_first;  // the phase's first element\n"
-    "uniform uint qc_count;  // its elements\n\n"
+    "uniform uint qc_count;  // its elements\n"
+    "uniform uint qc_to;     // the survivors' first slot\n\n"
     "void main()\n{\n"
     "    uint group = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;\n"
     "    uint i = group * 64u + gl_LocalInvocationID.x;\n"
     "    if (i >= qc_count) return;\n"
     "    uint k = qc_keep[i];\n"
     "    if (k == 0u) return;\n"
-    "    uint to = qc_first + qc_groups[group] + k - 1u;\n"
+    "    uint to = qc_to + qc_groups[group] + k - 1u;\n"
     "    qc_survivors[to] = qc_elements[qc_first + i];\n"
     "    qc_survivor_floors[to] = qc_floors[qc_first + i];\n"
     "}\n";

@@ -406,8 +406,9 @@ private:
 
     /// Occlusion culling of a later phase (after `copy_drawn_depth`): the max-depth pyramid of the
     /// copy (`pyramid_`), then each of the phase's `count` elements from `first` on culled against
-    /// it or given its depth floor (`floors`), and the kept ones with their floors copied in order
-    /// into `survivors` and `survivor_floors` from slot `first` on; their count into `kept`.
+    /// it or given its depth floor (`floors`), its result into `passed`, and the kept ones (from
+    /// `draw_from` on: the ones before it are drawn already) with their floors copied in order into
+    /// `survivors` and `survivor_floors` from slot `first + draw_from` on; their count into `kept`.
     /// False when the viewport is too large for 16 levels.
     bool cull_phase(Volume& v, const render::Camera& cam, const render::Light& light, const render::RenderOptions& opt, std::size_t first, std::size_t count,
                     std::size_t& kept, std::size_t draw_from = 0) {
@@ -458,6 +459,7 @@ private:
         gl.UseProgram(compact.id());
         gl.Uniform1ui(compact.uniform_location("qc_first"), static_cast<GLuint>(first));
         gl.Uniform1ui(compact.uniform_location("qc_count"), static_cast<GLuint>(count));
+        gl.Uniform1ui(compact.uniform_location("qc_to"), static_cast<GLuint>(first + draw_from));
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 11, v.survivors);
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 12, v.survivor_floors);
         dispatch_rows(gl, groups);
@@ -571,13 +573,13 @@ private:
             // A later phase tested against the depth drawn so far draws only its kept elements
             // (`survivors`, from slot `first` on), each with its depth floor. Reusing the shown set,
             // the second phase tests every element (the shown ones for the next frame's set) and
-            // keeps the rest that pass, into the survivors' list from slot 0 on.
-            std::size_t kept = end - first, slot = first;
+            // keeps the rest that pass, into the survivors' list from slot `first` on.
+            std::size_t kept = end - first;
+            const std::size_t slot = first;
             bool test = false;
             if (occlusion && first > 0) {
                 if (reuse) {
                     test = test_all(first, kept);
-                    slot = 0;
                 } else {
                     gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, list);
                     gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 10, v.floors);
@@ -588,7 +590,6 @@ private:
                     gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, v.survivors);
                     gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 10, v.survivor_floors);
                 } else {
-                    slot = first;
                     kept = end - first;
                 }
             }
