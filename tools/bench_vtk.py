@@ -2,8 +2,8 @@
 """tools/bench_vtk.py -- quadcast against VTK 9 on the same scenes, measured in one run.
 
     make bench-vtk                      # installs python3-vtk9, python3-numpy, xvfb; runs this
-    tools/bench_vtk.py --quadcast build/tools/quadcast [--cases spheres:10000,sticks:50000]
-                       [--rounds 5] [--frames 5] [--width 1024 --height 768] [--out DIR]
+    tools/bench_vtk.py --quadcast build/tools/quadcast [--cases spheres:10000,sticks:50000,skull:qss]
+                       [--rounds 5] [--frames 5] [--width 1024 --height 768] [--out DIR] [--data DIR]
 
 The scenes are those of `quadcast bench spheres` and `bench sticks`: N random spheres in the unit
 cube of radius 0.3 N^(-1/3) (written by tools/sphere_scene.sh; VTK draws the numbers of that file),
@@ -20,6 +20,13 @@ Render() + WaitForCompletion() (glFinish) after a warm-up frame. Both run on the
 llvmpipe. Rounds alternate the order (quadcast, VTK; VTK, quadcast; ...) so that load from other
 processes hits both alike; printed are the medians over the rounds and the ratio of the medians
 (> 1: quadcast faster), with the range of the per-round ratios.
+
+The isosurface cases (skull:qss, skull:s31, skull:trilinear): CGAL's skull_2.9.inr (64^3 floats,
+`make data` fetches it into build/data) at isovalue 2.9, from the skull demo's camera (36 degrees),
+one colour, the default headlight. quadcast draws the scheme's isosurface with its GL isosurface
+renderer (default options, forward shading); VTK extracts the same volume's isosurface with
+vtkFlyingEdges3D (normals on) once and draws the triangle mesh with vtkPolyDataMapper (its frames
+redraw the mesh; the extraction is in its time to the first image).
 
 Time to first image: the wall time of a whole process that reads the scene, draws one frame and
 writes a PNG (quadcast render without --frames; the VTK worker in --first mode, its Python and VTK
@@ -41,7 +48,7 @@ import time
 HERE = os.path.dirname(os.path.abspath(__file__))
 
 
-def make_scene(kind, n, seed, scene):
+def make_scene(kind, n, seed, scene, data_dir):
     """Writes the quadcast scene file `scene` and returns the arrays VTK draws from it."""
     import numpy as np
     if kind == "spheres":
@@ -68,7 +75,36 @@ def make_scene(kind, n, seed, scene):
                                for a, b in zip(p0, p1)))
             f.write("\n]}\n")
         return {"p0": p0, "p1": p1, "radius": 0.005}
-    raise SystemExit(f"bench_vtk.py: unknown case kind '{kind}' (spheres or sticks)")
+    if kind == "skull":
+        if n not in ("qss", "s31", "trilinear"):
+            raise SystemExit(f"bench_vtk.py: skull:{n}: the scheme must be qss, s31 or trilinear")
+        volume = os.path.abspath(os.path.join(data_dir, "skull_2.9.inr"))
+        if not os.path.exists(volume):
+            raise SystemExit(f"bench_vtk.py: {volume} not found (make data)")
+        with open(scene, "w") as f:
+            json.dump({"camera": SKULL_CAMERA, "objects": [{"volume": volume, "iso": 2.9, "scheme": n, "color": SKULL_COLOR}]}, f)
+        return {"volume": volume}
+    raise SystemExit(f"bench_vtk.py: unknown case kind '{kind}' (spheres, sticks or skull)")
+
+
+# The skull demo's camera (examples/demo/skull_s31.json) and a bone colour, for both renderers.
+SKULL_CAMERA = {"eye": [560.0, -260.0, 180.0], "target": [126.0, 126.0, 110.0], "up": [0.0, 0.0, 1.0], "fov_y": 36}
+SKULL_COLOR = [0.92, 0.88, 0.78]
+
+
+def read_inr(path):
+    """An INR volume of floats (the skull's): its samples (z, y, x) and spacing."""
+    import numpy as np
+    with open(path, "rb") as f:
+        raw = f.read()
+    end = raw.index(b"##}\n") + 4
+    fields = dict(l.split("=", 1) for l in raw[:end].decode("ascii").splitlines() if "=" in l)
+    if fields.get("TYPE") != "float" or fields.get("PIXSIZE") != "32 bits":
+        raise SystemExit(f"bench_vtk.py: {path}: only 32-bit float INR volumes")
+    nx, ny, nz = (int(fields[k]) for k in ("XDIM", "YDIM", "ZDIM"))
+    dtype = "<f4" if fields.get("CPU", "decm") in ("decm", "pc", "alpha") else ">f4"
+    a = np.frombuffer(raw, dtype=dtype, count=nx * ny * nz, offset=end).reshape(nz, ny, nx)
+    return a, (float(fields["VX"]), float(fields["VY"]), float(fields["VZ"]))
 
 
 def vtk_worker(args):
@@ -81,7 +117,23 @@ def vtk_worker(args):
     kind = str(z["kind"])
     pd = vtk.vtkPolyData()
     pts = vtk.vtkPoints()
-    if kind == "spheres":
+    if kind == "skull":
+        samples, spacing = read_inr(str(z["volume"]))
+        image = vtk.vtkImageData()
+        image.SetDimensions(samples.shape[2], samples.shape[1], samples.shape[0])
+        image.SetSpacing(*spacing)
+        image.SetOrigin(0.0, 0.0, 0.0)
+        image.GetPointData().SetScalars(ns.numpy_to_vtk(np.ascontiguousarray(samples, dtype=np.float32).ravel(), deep=True))
+        fe = vtk.vtkFlyingEdges3D()
+        fe.SetInputData(image)
+        fe.SetValue(0, 2.9)
+        fe.ComputeNormalsOn()
+        fe.ComputeScalarsOff()
+        fe.Update()
+        mapper = vtk.vtkPolyDataMapper()
+        mapper.SetInputData(fe.GetOutput())
+        mapper.ScalarVisibilityOff()
+    elif kind == "spheres":
         centers = np.ascontiguousarray(z["centers"], dtype=np.float32)
         pts.SetData(ns.numpy_to_vtk(centers, deep=True))
         mapper = vtk.vtkOpenGLSphereMapper()
@@ -112,27 +164,34 @@ def vtk_worker(args):
         mapper.SetSelectionIdArray("selection")
         mapper.SetColorModeToDirectScalars()
         mapper.ScalarVisibilityOn()
-    pd.SetPoints(pts)
-    # one vertex cell per point (the mappers draw the points of the vertex cells)
-    n = pts.GetNumberOfPoints()
-    conn = np.empty(2 * n, dtype=np.int64)
-    conn[0::2] = 1
-    conn[1::2] = np.arange(n)
-    verts = vtk.vtkCellArray()
-    verts.SetCells(n, ns.numpy_to_vtkIdTypeArray(conn, deep=True))
-    pd.SetVerts(verts)
-    mapper.SetInputData(pd)
+    if kind != "skull":
+        pd.SetPoints(pts)
+        # one vertex cell per point (the mappers draw the points of the vertex cells)
+        n = pts.GetNumberOfPoints()
+        conn = np.empty(2 * n, dtype=np.int64)
+        conn[0::2] = 1
+        conn[1::2] = np.arange(n)
+        verts = vtk.vtkCellArray()
+        verts.SetCells(n, ns.numpy_to_vtkIdTypeArray(conn, deep=True))
+        pd.SetVerts(verts)
+        mapper.SetInputData(pd)
     actor = vtk.vtkActor()
     actor.SetMapper(mapper)
-    actor.GetProperty().SetColor(0.8, 0.8, 0.8)
+    actor.GetProperty().SetColor(*(SKULL_COLOR if kind == "skull" else (0.8, 0.8, 0.8)))
     ren = vtk.vtkRenderer()
     ren.AddActor(actor)
     ren.SetBackground(1.0, 1.0, 1.0)
     cam = ren.GetActiveCamera()
-    cam.SetPosition(0.5, 0.5, 3.0)
-    cam.SetFocalPoint(0.5, 0.5, 0.5)
-    cam.SetViewUp(0.0, 1.0, 0.0)
-    cam.SetViewAngle(30.0)
+    if kind == "skull":
+        cam.SetPosition(*SKULL_CAMERA["eye"])
+        cam.SetFocalPoint(*SKULL_CAMERA["target"])
+        cam.SetViewUp(*SKULL_CAMERA["up"])
+        cam.SetViewAngle(SKULL_CAMERA["fov_y"])
+    else:
+        cam.SetPosition(0.5, 0.5, 3.0)
+        cam.SetFocalPoint(0.5, 0.5, 0.5)
+        cam.SetViewUp(0.0, 1.0, 0.0)
+        cam.SetViewAngle(30.0)
     win = vtk.vtkRenderWindow()
     win.SetOffScreenRendering(1)
     win.SetSize(args.width, args.height)
@@ -205,6 +264,7 @@ def main():
     ap.add_argument("--height", type=int, default=768)
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--out", default=None, help="keep scenes and PNGs here (default: a temporary directory)")
+    ap.add_argument("--data", default=os.path.join(HERE, "..", "build", "data"), help="where `make data` put CGAL's skull_2.9.inr")
     ap.add_argument("--vtk-worker", help=argparse.SUPPRESS)
     ap.add_argument("--png", help=argparse.SUPPRESS)
     args = ap.parse_args()
@@ -236,10 +296,10 @@ def main():
     try:
         for case in args.cases.split(","):
             kind, n = case.split(":")
-            n = int(n)
+            n = n if kind == "skull" else int(n)
             scene = os.path.join(out, f"{kind}_{n}.json")
             arrays = os.path.join(out, f"{kind}_{n}.npz")
-            data = make_scene(kind, n, args.seed, scene)
+            data = make_scene(kind, n, args.seed, scene, args.data)
             np.savez(arrays, kind=kind, **data)
             qpng = os.path.join(out, f"{kind}_{n}_quadcast.png")
             vpng = os.path.join(out, f"{kind}_{n}_vtk.png")
