@@ -211,6 +211,9 @@ private:
         ShownSet shown[2];
         int next_shown = 0;
         std::vector<std::uint32_t> ids;  ///< the frame's elements' `element_id`s, in list order
+        /// Host buffers of the CPU list's per-frame work, kept between frames (their pages are
+        /// not faulted in and cleared again each frame: tens of MB on the liver)
+        std::vector<std::uint32_t> scratch_records, scratch_ordered, scratch_ids, scratch_passed;
         std::size_t floor_capacity = 0;  ///< elements `floors`, `survivors`, ... hold
         std::size_t index_capacity = 0;  ///< elements the index buffer covers
         std::size_t element_capacity = 0, coeff_capacity = 0;  ///< elements `elements` and `coeffs` hold (grown only: a large
@@ -257,15 +260,15 @@ private:
         return cast<double>(cam.projection) * cast<double>(cam.view) * world;
     }
 
-    /// The elements of one frame: the octree's active cubes not outside the frustum, expanded
-    /// into their relevant tetrahedra (slot << 5 | t), or the active cells.
-    std::vector<std::uint32_t> select(Volume& v, const render::Camera& cam) const {
+    /// The elements of one frame into `rec`: the octree's active cubes not outside the frustum,
+    /// expanded into their relevant tetrahedra (slot << 5 | t), or the active cells.
+    void select(Volume& v, const render::Camera& cam, std::vector<std::uint32_t>& rec) const {
         const render::VolumeModel& m = *v.model;
         const spline::Frustum f = spline::frustum_from_clip_matrix(index_clip_matrix(cam, m));
         std::size_t visited = 0;
         std::vector<int> cubes = m.octree.active_cubes(m.iso, frustum_culling_ ? &f : nullptr, &visited);
         order_by_view_depth(cubes, m, cam);
-        return expand(v, cubes, visited);
+        expand(v, cubes, visited, rec);
     }
 
     /// Spline cubes (or trilinear cells) ordered by the view depth of their centres, nearest first
@@ -289,11 +292,11 @@ private:
         for (std::size_t i = 0; i < cubes.size(); ++i) cubes[i] = keyed[i].second;
     }
 
-    /// The records of the elements of `cubes` (octree order), and the frame's statistics.
-    std::vector<std::uint32_t> expand(Volume& v, const std::vector<int>& cubes, std::size_t visited) const {
+    /// The records of the elements of `cubes` (in their order) into `rec`, and the frame's statistics.
+    void expand(Volume& v, const std::vector<int>& cubes, std::size_t visited, std::vector<std::uint32_t>& rec) const {
         const render::VolumeModel& m = *v.model;
         const bool tri = m.scheme == render::VolumeScheme::trilinear;
-        std::vector<std::uint32_t> rec;
+        rec.clear();
         const int nx = m.octree.level(0).nx, ny = m.octree.level(0).ny;
         v.stats = IsoDrawStats{};
         v.stats.active = m.active;
@@ -316,7 +319,6 @@ private:
                 if (mask & (1u << t)) rec.insert(rec.end(), {i, j, k, static_cast<std::uint32_t>(slot) << 5 | t});
         }
         v.stats.elements = rec.size() / 4;
-        return rec;
     }
 
     /// Index buffer for n <= `batch_elements` elements (grown only): the 4 faces of a tetrahedron over its 4 vertices (vertex
@@ -625,7 +627,8 @@ private:
 
     /// The bound pass's results over the frame's n elements into the shown set (by `element_id`).
     void read_shown(Volume& v, Volume::ShownSet& set, std::size_t n) const {
-        std::vector<std::uint32_t> passed(n);
+        std::vector<std::uint32_t>& passed = v.scratch_passed;
+        passed.resize(n);
         api_->GetNamedBufferSubData(v.passed, 0, static_cast<GLsizeiptr>(n * sizeof(std::uint32_t)), passed.data());
         std::fill(set.bits.begin(), set.bits.end(), 0);
         for (std::size_t i = 0; i < n; ++i) {
@@ -640,7 +643,8 @@ private:
     /// With a shown set, the set's elements first (each part in its order); their count into
     /// `first_shown`. The elements' `element_id`s into v.ids.
     std::size_t cpu_select(Volume& v, const render::Camera& cam, const Volume::ShownSet* shown, std::size_t& first_shown) {
-        std::vector<std::uint32_t> rec = select(v, cam);
+        std::vector<std::uint32_t>& rec = v.scratch_records;
+        select(v, cam, rec);
         first_shown = 0;
         if (rec.empty()) return 0;
         const std::size_t n = rec.size() / 4;
@@ -648,7 +652,10 @@ private:
         for (std::size_t i = 0; i < n; ++i) v.ids[i] = element_id(*v.model, &rec[4 * i]);
         if (shown) {
             const auto is_shown = [&](std::uint32_t id) { return id / 64 < shown->bits.size() && (shown->bits[id / 64] >> (id % 64) & 1u); };
-            std::vector<std::uint32_t> ordered(rec.size()), ids(n);
+            std::vector<std::uint32_t>& ordered = v.scratch_ordered;
+            std::vector<std::uint32_t>& ids = v.scratch_ids;
+            ordered.resize(rec.size());
+            ids.resize(n);
             for (std::size_t i = 0; i < n; ++i)
                 first_shown += is_shown(v.ids[i]);
             std::size_t a = 0, b = first_shown;
@@ -679,7 +686,8 @@ private:
         const bool tri = m.scheme == render::VolumeScheme::trilinear;
         if (v.all_tet_culling != int(tet_culling_)) {
             std::size_t visited = 0;
-            const std::vector<std::uint32_t> all = expand(v, m.octree.active_cubes(m.iso, nullptr, &visited), visited);
+            std::vector<std::uint32_t> all;
+            expand(v, m.octree.active_cubes(m.iso, nullptr, &visited), visited, all);
             v.all_count = all.size() / 4;
             const std::size_t groups = (v.all_count + 63) / 64;
             for (GLuint* b : {&v.all, &v.listed, &v.keep, &v.groups, &v.count, &v.cubes, &v.cube_kept})
