@@ -854,18 +854,25 @@ private:
             upload(groups_, std::vector<std::uint32_t>(group_total));
             group_capacity_ = group_total;
         }
-        const Program& cull = programs_.get(render::OcclusionKey{render::OcclusionPass::cull});
-        common(cull);
-
-        gl.Uniform1ui(cull.uniform_location("qc_stats_at"), static_cast<GLuint>(5 * render::variant_count));
-        gl.Uniform1i(cull.uniform_location("qc_reuse"), ph.reuse);
-        set_pyramid_uniforms(gl, cull, levels);
+        // (a program for the bounding-sphere rectangle, which reads no record, and one for the others)
+        const Program* used = nullptr;
         for (int v = 0; v < render::variant_count; ++v) {
             if (!runs(v)) continue;
             const bool planes = static_cast<render::Variant>(v) == render::Variant::planes;
+            // (the cull pass tests the bounding sphere's rectangle for every bound but the ellipsoid and slab ones)
+            const RectBound bound = render::rect_bound(static_cast<render::Variant>(v));
+            const bool sphere_rect = bound != RectBound::ellipsoid && bound != RectBound::slab;
+            const Program& cull = programs_.get(render::OcclusionKey{render::OcclusionPass::cull, sphere_rect});
+            if (&cull != used) {
+                common(cull);
+                gl.Uniform1ui(cull.uniform_location("qc_stats_at"), static_cast<GLuint>(5 * render::variant_count));
+                gl.Uniform1i(cull.uniform_location("qc_reuse"), ph.reuse);
+                set_pyramid_uniforms(gl, cull, levels);
+                used = &cull;
+            }
             gl.Uniform1ui(cull.uniform_location("qc_first"), ranges_[v].first);
             gl.Uniform1ui(cull.uniform_location("qc_count"), ranges_[v].second);
-            gl.Uniform1i(cull.uniform_location("qc_bound"), static_cast<int>(render::rect_bound(static_cast<render::Variant>(v))));
+            if (!sphere_rect) gl.Uniform1i(cull.uniform_location("qc_bound"), static_cast<int>(bound));
             // The planes variant may not lie in its bounding sphere (a bilinear patch may reach out
             // of it inside its quad): no nearest distance, frustum culling only, unless all its
             // primitives show only inside their balls.

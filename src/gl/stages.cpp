@@ -590,12 +590,15 @@ const char* pyramid_shader =
 /// its pixels (read from the pyramid level where they span at most 8 x 8 texels), is culled
 /// (qc_keep 0, counted after the commands); the others are kept (qc_keep 1 + the kept records
 /// before it in its workgroup of 64), and each workgroup counts its kept ones.
-Stage cull_shader() {
+Stage cull_shader(bool sphere_bound) {
     Stage s;
     std::ostringstream fns;
-    add_kernel(s, fns, "primitive_rect_sphere");
-    add_kernel(s, fns, "primitive_rect_ellipsoid");
-    add_kernel(s, fns, "primitive_rect_slab");
+    if (sphere_bound) {
+        add_kernel(s, fns, "primitive_rect_sphere");
+    } else {
+        add_kernel(s, fns, "primitive_rect_ellipsoid");
+        add_kernel(s, fns, "primitive_rect_slab");
+    }
     add_kernel(s, fns, "pixel_span");
     add_kernel(s, fns, "nearest_distance");
     std::ostringstream m;
@@ -603,8 +606,8 @@ Stage cull_shader() {
       << "layout(std430, binding = 5) buffer qc_Commands { uint qc_command[]; };  // DrawElementsIndirectCommand per variant, then statistics\n"
          "layout(std430, binding = 6) writeonly buffer qc_Keep { uint qc_keep[]; };   // per record: 0 culled, else 1 + its slot in the workgroup\n"
          "layout(std430, binding = 7) writeonly buffer qc_Groups { uint qc_groups[]; };  // per workgroup of 64 records: the kept ones\n"
-         "uniform int qc_bound;        // quadcast::RectBound of the variant\n"
-         "uniform uint qc_stats_at;    // the counts of primitives culled outside the frustum and behind occluders (uint offset)\n"
+         << (sphere_bound ? "" : "uniform int qc_bound;        // quadcast::RectBound of the variant (ellipsoid or slab)\n")
+         << "uniform uint qc_stats_at;    // the counts of primitives culled outside the frustum and behind occluders (uint offset)\n"
          "uniform bool qc_occlusion;   // test against the pyramid (else only the frustum)\n"
          "uniform uvec3 qc_levels[16]; // offset, width, height of each pyramid level\n"
          "uniform int qc_level_count;\n"
@@ -626,19 +629,24 @@ Stage cull_shader() {
          "    atomicAdd(qc_command[qc_stats_at + what], 1u);\n"
          "}\n\n"
          "bool qc_kept(uint prim, bool shown)\n{\n"
-         "    qc_Primitive p = qc_prims[prim];\n"
-         "    mat4 q = qc_record_quadric(p);\n"
-         "    vec3 c = qc_record_center(p);\n"
+         "    // The centre and bounding radius from the occluder list (the record's own floats, 2 vec4 per\n"
+         "    // record): the sphere bound needs no more, and llvmpipe loads a storage buffer lane by lane,\n"
+         "    // so the whole record (7 vec4) is read only for the ellipsoid and slab bounds (a program of\n"
+         "    // its own: a branch on a uniform still runs its loads, masked, on llvmpipe).\n"
+         "    vec3 c = qc_occluder[2u * prim].xyz;\n"
+         "    float radius = qc_occluder[2u * prim + 1u].x;\n"
          "    float nearest;\n"
-         "    qc_nearest_distance(qc_vz_row, qc_vz_t, c, qc_record_radius(p), nearest);\n"
+         "    qc_nearest_distance(qc_vz_row, qc_vz_t, c, radius, nearest);\n"
          "    if (qc_windowed && !((qc_window_first || nearest >= qc_window.x) && (qc_window_last || !(nearest >= qc_window.y)))) return false;  // another phase's\n"
          "    vec2 lo, hi;\n    bool tight, visible;\n"
-         "    if (qc_bound == 1)\n"
-         "        qc_primitive_rect_ellipsoid(qc_view_projection, q, c, qc_record_radius(p), qc_record_axis(p), qc_record_half_length(p), qc_viewport, lo, hi, tight, visible);\n"
-         "    else if (qc_bound == 2)\n"
-         "        qc_primitive_rect_slab(qc_view_projection, q, c, qc_record_radius(p), qc_record_axis(p), qc_record_half_length(p), qc_viewport, lo, hi, tight, visible);\n"
-         "    else\n"
-         "        qc_primitive_rect_sphere(qc_view_projection, q, c, qc_record_radius(p), qc_record_axis(p), qc_record_half_length(p), qc_viewport, lo, hi, tight, visible);\n"
+         << (sphere_bound ? "    qc_primitive_rect_sphere(qc_view_projection, mat4(0.0), c, radius, vec3(0.0), 0.0, qc_viewport, lo, hi, tight, visible);\n"
+                          : "    qc_Primitive p = qc_prims[prim];\n"
+                            "    mat4 q = qc_record_quadric(p);\n"
+                            "    if (qc_bound == 1)\n"
+                            "        qc_primitive_rect_ellipsoid(qc_view_projection, q, c, radius, qc_record_axis(p), qc_record_half_length(p), qc_viewport, lo, hi, tight, visible);\n"
+                            "    else\n"
+                            "        qc_primitive_rect_slab(qc_view_projection, q, c, radius, qc_record_axis(p), qc_record_half_length(p), qc_viewport, lo, hi, tight, visible);\n")
+         << 
          "    if (!visible) { qc_count_culled(0u, shown); return false; }  // entirely behind the eye plane\n"
          "    if (tight) {\n"
          "        vec4 span;\n"
@@ -814,7 +822,8 @@ StageText occlusion_stage(const render::OcclusionKey& k) {
     case render::OcclusionPass::cull:
         break;
     }
-    return stage_text(StageText::Kind::compute, "qc_cull.comp", cull_shader(), "occlusion culling: the frustum and occlusion test of every record");
+    return stage_text(StageText::Kind::compute, k.sphere ? "qc_cull_sphere.comp" : "qc_cull.comp", cull_shader(k.sphere),
+                      std::string("occlusion culling: the frustum and occlusion test of every record") + (k.sphere ? " (bounding-sphere rectangles)" : " (ellipsoid and slab rectangles)"));
 }
 
 }  // namespace

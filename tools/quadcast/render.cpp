@@ -329,11 +329,11 @@ int run_render(const RenderArgs& a) {
                 std::printf("\n");
             }
             if (fr.options.occlusion_culling && r.cull_pass_ran())
-                std::printf("%s: cull pass%s: %zu primitives drawn, %zu culled outside the view, %zu hidden behind %s%s\n", a.scene.c_str(),
+                std::printf("%s: cull pass%s: %zu primitives drawn, %zu culled outside the view, %zu hidden behind %s%s; its compute passes %.1f ms (GL_TIME_ELAPSED)\n", a.scene.c_str(),
                             r.reused_shown_set() ? " reusing the last frame's shown set (2 phases)"
                             : r.phases() > 1 ? (" in " + std::to_string(r.phases()) + " phases").c_str() : "", r.drawn_primitives(), r.frustum_culled(), r.occluded(),
                             r.reused_shown_set() ? "what the shown set drew" : r.phases() > 1 ? "occluders or earlier phases" : "occluders",
-                            r.expected_overlap() > 0.0 ? (" (expected overlap " + fmt_overlap(r.expected_overlap()) + ")").c_str() : "");
+                            r.expected_overlap() > 0.0 ? (" (expected overlap " + fmt_overlap(r.expected_overlap()) + ")").c_str() : "", r.cull_pass_ms());
             else if (fr.options.occlusion_culling && primitive_count > 0)
                 std::printf("%s: no cull pass: expected overlap %s below occlusion_min_overlap %g (the primitives rarely hide one another); all %zu drawn\n",
                             a.scene.c_str(), fmt_overlap(r.expected_overlap()).c_str(), double(fr.options.occlusion_min_overlap), r.drawn_primitives());

@@ -133,7 +133,7 @@ struct DeferredKey {
 enum class OcclusionPass : std::uint8_t { occluders, pyramid, cull, scan, compact, bounds, depth_image, occluder_raster, element_cull_cubes, element_cull_tets, element_cull_cells, element_compact, phase_compact };
 struct OcclusionKey {
     OcclusionPass pass = OcclusionPass::occluders;
-    bool sphere = false;  ///< `bounds`: of the sphere-specialised vertex stage
+    bool sphere = false;  ///< `bounds`: of the sphere-specialised vertex stage; `cull`: for the bounding sphere's rectangle (every bound but the ellipsoid and slab ones)
     bool ortho = false;   ///< `bounds`: orthographic camera
     friend constexpr bool operator==(const OcclusionKey&, const OcclusionKey&) = default;
 };
@@ -186,6 +186,7 @@ inline std::string key_name(const OcclusionKey& k) {
     const char* pass = k.pass == OcclusionPass::occluders ? "occluders" : k.pass == OcclusionPass::pyramid ? "pyramid" : k.pass == OcclusionPass::cull ? "cull" : k.pass == OcclusionPass::scan ? "scan" : k.pass == OcclusionPass::compact ? "compact" : k.pass == OcclusionPass::depth_image ? "depth_image" : k.pass == OcclusionPass::occluder_raster ? "occluder_raster"
                      : k.pass == OcclusionPass::element_cull_cubes ? "element_cull_cubes" : k.pass == OcclusionPass::element_cull_tets ? "element_cull_tets" : k.pass == OcclusionPass::element_cull_cells ? "element_cull_cells"
                      : k.pass == OcclusionPass::element_compact ? "element_compact" : k.pass == OcclusionPass::phase_compact ? "phase_compact" : "bounds";
+    if (k.pass == OcclusionPass::cull) return std::string("occlusion:") + pass + (k.sphere ? ":sphere" : ":ellipsoid_slab");
     if (k.pass != OcclusionPass::bounds) return std::string("occlusion:") + pass;
     return std::string("occlusion:") + pass + (k.sphere ? ":sphere" : ":quadric") + (k.ortho ? ":ortho" : ":perspective");
 }
@@ -208,7 +209,7 @@ inline std::vector<SlimKey> all_slim_keys() {
 
 /// Every occlusion key a renderer can ask for.
 inline std::vector<OcclusionKey> all_occlusion_keys() {
-    std::vector<OcclusionKey> out{{OcclusionPass::occluders}, {OcclusionPass::pyramid}, {OcclusionPass::cull}, {OcclusionPass::scan}, {OcclusionPass::compact},
+    std::vector<OcclusionKey> out{{OcclusionPass::occluders}, {OcclusionPass::pyramid}, {OcclusionPass::cull, false}, {OcclusionPass::cull, true}, {OcclusionPass::scan}, {OcclusionPass::compact},
                                   {OcclusionPass::depth_image}, {OcclusionPass::occluder_raster},
                                   {OcclusionPass::element_cull_cubes}, {OcclusionPass::element_cull_tets}, {OcclusionPass::element_cull_cells}, {OcclusionPass::element_compact},
                                   {OcclusionPass::phase_compact}};
