@@ -561,14 +561,7 @@ public:
         // records the cull pass's kept records, or, without a cull pass, all.
         ShownSet* shown = nullptr;
         if (opt.occlusion_culling && opt.occlusion_reuse && depth_target != 0 && count_ > 0 && !phased && !occluders_in_depth_) {
-            for (ShownSet& s : shown_)
-                if (s.target == depth_target) shown = &s;
-            if (!shown) {
-                shown = &shown_[next_shown_];
-                next_shown_ = 1 - next_shown_;
-                shown->target = depth_target;
-                shown->valid = false;
-            }
+            shown = &shown_set_of(shown_, next_shown_, depth_target);
         } else {
             for (ShownSet& s : shown_)
                 if (s.target == depth_target) s.valid = false;

@@ -353,7 +353,7 @@ int run_render(const RenderArgs& a) {
                 std::printf("%s: volume %zu (%s): %zu active cubes, %zu in the view frustum, %zu of %zu %s drawn in %d phase(s)", a.scene.c_str(), i,
                             render::volume_scheme_name(volumes[i].scheme), s.active, s.visible, s.elements, s.relevant,
                             volumes[i].scheme == render::VolumeScheme::trilinear ? "cells" : "relevant tetrahedra", s.phases);
-                if (s.phases > 1) std::printf(", %zu of them culled behind the earlier phases", s.occluded);
+                if (s.phases > 1) std::printf(", %zu of them culled behind the earlier phases%s", s.occluded, s.reused ? " (the first: the last frame's shown set)" : "");
                 std::printf("\n");
             }
         }

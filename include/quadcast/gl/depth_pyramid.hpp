@@ -1,9 +1,11 @@
 // quadcast/gl/depth_pyramid.hpp -- host plumbing of the occlusion passes: pyramid layout, pyramid build, dispatch in rows
 #pragma once
-// Host-only. Shared by the quadric renderer's cull pass and the isosurface renderer's phases.
+// Host-only. Shared by the quadric renderer's cull pass and the isosurface renderer's phases
+// (and their shown sets).
 
 #include <algorithm>
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -60,6 +62,20 @@ inline void dispatch_rows(const Api& gl, std::uint32_t n, std::uint32_t row_limi
     if (n == 0) return;
     const std::uint32_t x = std::min<std::uint32_t>(n, row_limit);
     gl.DispatchCompute(x, (n + x - 1) / x, 1);
+}
+
+/// Of the shown sets a renderer keeps per depth target (RenderOptions::occlusion_reuse; a `Set`
+/// has the fields `target` and `valid`), the one of `target`, or else the slot replaced in turn
+/// (`next`), given to `target` and not valid.
+template <class Set, std::size_t N, class Target>
+Set& shown_set_of(Set (&slots)[N], int& next, Target target) {
+    for (Set& s : slots)
+        if (s.target == target) return s;
+    Set& s = slots[next];
+    next = (next + 1) % static_cast<int>(N);
+    s.target = target;
+    s.valid = false;
+    return s;
 }
 
 }  // namespace quadcast::gl

@@ -204,7 +204,7 @@ private:
         /// RenderOptions::occlusion_reuse (the CPU list): per depth target (the bound framebuffer)
         /// whether each element (`element_id`) passed its last test against what was drawn.
         struct ShownSet {
-            GLint fbo = -1;
+            GLint target = -1;  ///< the framebuffer
             bool valid = false;
             std::vector<std::uint64_t> bits;
         };
@@ -493,14 +493,7 @@ private:
         if (cull && opt.occlusion_reuse && element_list_ == ElementList::cpu) {
             GLint fbo = 0;
             gl.GetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &fbo);
-            for (Volume::ShownSet& k : v.shown)
-                if (k.fbo == fbo) shown = &k;
-            if (!shown) {
-                shown = &v.shown[v.next_shown];
-                v.next_shown = 1 - v.next_shown;
-                shown->fbo = fbo;
-                shown->valid = false;
-            }
+            shown = &shown_set_of(v.shown, v.next_shown, fbo);
         }
         std::size_t first_shown = 0;  // the shown set's elements lead the list
         const std::size_t n = element_list_ == ElementList::gpu ? gpu_select(v, cam) : cpu_select(v, cam, shown && shown->valid ? shown : nullptr, first_shown);
