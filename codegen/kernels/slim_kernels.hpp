@@ -26,7 +26,7 @@ struct SlimWeightKernel {
 
 /// Per fragment of a SLIM ball (the visibility and the accumulation pass): the local ray of the
 /// pixel's world ray (`local_ray`), then `slim_fragment` (the quadric clipped to its ball and its
-/// plane): hit, window depth, the visibility pass's pushed depth, ray parameter, unit normal, weight.
+/// two planes): hit, window depth, the visibility pass's pushed depth, ray parameter, unit normal, weight.
 template <bool Cull>
 struct SlimFragmentKernel {
     static constexpr const char* name = Cull ? "slim_fragment" : "slim_fragment_nocull";
@@ -36,6 +36,7 @@ struct SlimFragmentKernel {
         using T = typename IO::T;
         ClippedQuadric<T> p = primitive_inputs(io);
         p.planes[0] = io.template vec<4>("plane");
+        p.planes[1] = io.template vec<4>("plane2");
         const Vec3<T> origin = io.template vec<3>("origin");
         const Vec3<T> dir = io.template vec<3>("dir");
         const Vec3<T> vz_row = io.template vec<3>("vz_row");
@@ -51,9 +52,11 @@ struct SlimFragmentKernel {
     static void generate(std::mt19937& rng, std::span<float> in) {
         std::size_t p = 0;
         put_primitive(rng, in, p);
-        // A plane through the ball (or none) in local coordinates.
-        if (uniform(rng, 0.0f, 1.0f) < 0.3f) put(in, p, vec4(0.0f, 0.0f, 0.0f, 1.0f));
-        else put(in, p, vec4(random_direction(rng), uniform(rng, -1.0f, 1.0f)));
+        // Two planes through the ball (or none) in local coordinates.
+        for (int k = 0; k < 2; ++k) {
+            if (uniform(rng, 0.0f, 1.0f) < (k == 0 ? 0.3f : 0.6f)) put(in, p, vec4(0.0f, 0.0f, 0.0f, 1.0f));
+            else put(in, p, vec4(random_direction(rng), uniform(rng, -1.0f, 1.0f)));
+        }
         const Vec3<float> o = random_point(rng, 50.0f) + random_direction(rng) * uniform(rng, 1.0f, 100.0f);
         put(in, p, o);
         put(in, p, normalize(random_point(rng, 50.0f) - o));

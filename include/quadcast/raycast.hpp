@@ -109,8 +109,9 @@ struct CastOptions {
     /// The sphere x.x = radius^2 (local coordinates) in closed form (`ray_quadratic_sphere`): the
     /// quadric's coefficients and the ray terms g, a are not read. No clipping.
     bool sphere = false;
-    /// Clip to the half-space dot(planes[0], (x, 1)) >= 0 too (the optional clip plane of a SLIM
-    /// ball, Stoll et al. 2006, fig. 8; local coordinates; (0, 0, 0, 1) keeps everything).
+    /// Clip to the half-spaces dot(planes[0], (x, 1)) >= 0 and dot(planes[1], (x, 1)) >= 0 too (the
+    /// optional clip planes of a SLIM ball: one at a sharp edge, Stoll et al. 2006, fig. 8, two at a
+    /// corner; local coordinates; (0, 0, 0, 1) keeps everything).
     bool clip_plane = false;
 };
 
@@ -166,7 +167,8 @@ Candidate<T> nearer(const Candidate<T>& a, const Candidate<T>& b) {
 ///   farther one where the nearer fails the clip (eq. 15, corrected: `roots_near_first`).
 /// - bound: the hit must lie in the bounding sphere, |x|^2 <= radius^2.
 /// - planes: the hit must lie inside the four planes (`inside_tet`).
-/// - clip_plane: the hit must lie on the kept side of planes[0] (dot(planes[0], (x, 1)) >= 0).
+/// - clip_plane: the hit must lie on the kept side of planes[0] and of planes[1]
+///   (dot(planes[i], (x, 1)) >= 0).
 /// - slab: the hit must lie in the slab; the caps dot(axis, x) = +-half_length that are closed
 ///   (caps[0], caps[1] > 0) are hit where the quadric's inside (f <= 0) is, or where the cap
 ///   crossing's ray parameter equals the quadric's entry root to 2^-18 of itself (the rim: there
@@ -211,7 +213,10 @@ CastHit<T> cast_ray(const ClippedQuadric<T>& p, const LocalRay<T>& r_eye) {
         if constexpr (Opt.bound) in = dot(x, x) <= r2;
         if constexpr (Opt.slab) in = in && (abs(dot(p.axis, x)) <= p.half_length);
         if constexpr (Opt.planes) in = (in && inside_planes(p, x)) && (abs(dot(p.axis, x)) <= p.half_length);
-        if constexpr (Opt.clip_plane) in = in && (dot(p.planes[0], vec4(x, T(1))) >= T(0));
+        if constexpr (Opt.clip_plane) {
+            const Vec4<T> xh = vec4(x, T(1));
+            in = (in && (dot(p.planes[0], xh) >= T(0))) && (dot(p.planes[1], xh) >= T(0));
+        }
         return in;
     };
     auto quadric_candidate = [&](const T& lambda, const mask_t<T>& valid) {

@@ -63,7 +63,7 @@ T slim_weight(const T& t) {
 /// One ball's fragment of a SLIM pixel ray.
 template <class T>
 struct SlimFragment {
-    mask_t<T> hit;     ///< the quadric is hit in the ball (and on the kept side of its plane), depth in [0, 1]
+    mask_t<T> hit;     ///< the quadric is hit in the ball (and on the kept side of its planes), depth in [0, 1]
     T depth;           ///< window depth of the hit
     T visibility;      ///< the depth the visibility pass writes: pushed away from the eye, at most 1
     T lambda;          ///< ray parameter of the hit
@@ -71,8 +71,8 @@ struct SlimFragment {
     T weight;          ///< slim_weight(|x - c| / r)
 };
 
-/// The fragment of one SLIM ball (a quadric clipped to its bounding sphere and to the plane in
-/// p.planes[0]; variant `bounded` plus CastOptions::clip_plane) for a ray whose origin lies in the
+/// The fragment of one SLIM ball (a quadric clipped to its bounding sphere and to the planes in
+/// p.planes[0] and p.planes[1]; variant `bounded` plus CastOptions::clip_plane) for a ray whose origin lies in the
 /// camera plane: `cast_ray` (front root only with `Cull`), `window_depth`, and the visibility
 /// depth, window depth at view z = lambda vz - s r, s = slim_depth_window + (1 -
 /// slim_depth_window) (1 - w) (0.25 at the centre, 1 on the sphere), clamped to 1.

@@ -58,6 +58,7 @@ public:
         for (const render::Primitive& b : balls) {
             records.push_back(render::pack_record(b));
             planes.insert(planes.end(), b.shape.planes[0].c, b.shape.planes[0].c + 4);
+            planes.insert(planes.end(), b.shape.planes[1].c, b.shape.planes[1].c + 4);
             for (int i = 0; i < 3; ++i) {
                 lo_[i] = std::min(lo_[i], double(b.shape.center[i]) - double(b.shape.radius));
                 hi_[i] = std::max(hi_[i], double(b.shape.center[i]) + double(b.shape.radius));

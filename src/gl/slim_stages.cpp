@@ -45,9 +45,9 @@ Stage ball_vertex_shader(bool ortho) {
          "uniform bool qc_cull;        // per-quadric culling (perspective)\n"
          "uniform bool qc_patch;       // draw over the patch's quadrilateral\n"
          "uniform bool qc_patch_cull;  // cull by the patch's normal cone\n"
-         "// The record and its clip plane for the fragment stage (detail::record_varyings_glsl).\n"
+         "// The record and its two clip planes for the fragment stage (detail::record_varyings_glsl).\n"
          "layout(std430, binding = 1) readonly buffer qc_SlimPlanes { vec4 qc_slim_planes[]; };\n"
-         "flat out vec4 qc_slim_plane;\n"
+         "flat out vec4 qc_slim_plane, qc_slim_plane2;\n"
       << detail::record_varyings_glsl("out") << "\n"
       << fns.str()
       << "void main()\n{\n"
@@ -55,7 +55,8 @@ Stage ball_vertex_shader(bool ortho) {
          "    int k = gl_VertexID % 4;\n"
          "    qc_Primitive p = qc_prims[prim];\n"
       << detail::record_varyings_out()
-      << "    qc_slim_plane = qc_slim_planes[prim];\n"
+      << "    qc_slim_plane = qc_slim_planes[2u * prim];\n"
+         "    qc_slim_plane2 = qc_slim_planes[2u * prim + 1u];\n"
          "    vec4 axis_rho = qc_slim_patches[2u * prim], slab_cone = qc_slim_patches[2u * prim + 1u];\n"
          "    vec2 qd[4];\n    bool tight = false, visible = true;\n"
          "    if (qc_patch)\n"
@@ -92,7 +93,7 @@ Stage ball_fragment_shader(const render::SlimKey& k) {
     std::ostringstream m;
     m << render::record_glsl()
       << ray_uniforms << "\n" << detail::record_varyings_glsl("in")
-      << "flat in vec4 qc_slim_plane;  // the record's clip plane in local coordinates ((0, 0, 0, 1): none)\n";
+      << "flat in vec4 qc_slim_plane, qc_slim_plane2;  // the record's clip planes in local coordinates ((0, 0, 0, 1): none)\n";
     if (accumulate)
         m << "layout(location = 0) out vec4 qc_slim_normal_weight;    // w n, w\n"
              "layout(location = 1) out vec4 qc_slim_lambda_material;  // w lambda, w specular, w shininess, 0\n"
@@ -105,7 +106,7 @@ Stage ball_fragment_shader(const render::SlimKey& k) {
          "    bool hit;\n    float depth, visibility, lambda, w;\n    vec3 n;\n"
          "    qc_" << (k.cull ? "slim_fragment" : "slim_fragment_nocull")
       << "(qc_record_quadric(p), qc_record_center(p), qc_record_radius(p), qc_record_axis(p), qc_record_half_length(p),\n"
-         "        qc_slim_plane, ro, rd, qc_vz_row, qc_pz, hit, depth, visibility, lambda, n, w);\n"
+         "        qc_slim_plane, qc_slim_plane2, ro, rd, qc_vz_row, qc_pz, hit, depth, visibility, lambda, n, w);\n"
          "    if (!hit) discard;\n";
     if (accumulate)
         m << "    gl_FragDepth = depth;\n"

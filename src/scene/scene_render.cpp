@@ -128,16 +128,17 @@ Frame build_frame(const scene::Scene& s, int width, int height) {
             const scene::SlimBall& b = m.balls[j];
             try {
                 Primitive p = shapes::quadric(frame_quadric(b.q, t), shapes::SphereBound{P(b.center), L(b.radius)}, look(m.material));
-                // The clip plane a.x + d >= 0 in the frame (x = scale x' + offset: a.x' + (a.offset + d) / scale >= 0),
+                // The clip planes a.x + d >= 0 in the frame (x = scale x' + offset: a.x' + (a.offset + d) / scale >= 0),
                 // then local to the ball (x' = centre + u), in double; none: (0, 0, 0, 1).
-                Vec4<float> plane = vec4(0.0f, 0.0f, 0.0f, 1.0f);
-                if (b.has_plane) {
-                    const V3 a{{b.plane[0], b.plane[1], b.plane[2]}};
-                    const double d_frame = (dot(a, t.offset) + b.plane[3]) / t.scale;
+                const auto local_plane = [&](bool has, const std::array<double, 4>& pl) {
+                    if (!has) return vec4(0.0f, 0.0f, 0.0f, 1.0f);
+                    const V3 a{{pl[0], pl[1], pl[2]}};
+                    const double d_frame = (dot(a, t.offset) + pl[3]) / t.scale;
                     const V3 c = cast<double>(p.shape.center);
-                    plane = vec4(float(a[0]), float(a[1]), float(a[2]), float(dot(a, c) + d_frame));
-                }
-                p.shape.planes[0] = plane;
+                    return vec4(float(a[0]), float(a[1]), float(a[2]), float(dot(a, c) + d_frame));
+                };
+                p.shape.planes[0] = local_plane(b.has_plane, b.plane);
+                p.shape.planes[1] = local_plane(b.has_plane && b.has_plane2, b.plane2);
                 fr.slim_balls.push_back(p);
             } catch (const std::invalid_argument& e) {
                 throw std::invalid_argument(origin_of(s, &O::slims, i) + "ball " + std::to_string(j) + ": " + e.what());

@@ -10,6 +10,7 @@
 #include <limits>
 #include <numbers>
 #include <random>
+#include <span>
 #include <stdexcept>
 #include <string>
 
@@ -78,6 +79,10 @@ private:
 /// FitOptions::regularization of the plane fit (`attempt`): the 6 quadratic coefficients cost 1e6
 /// times the mean residual, so they stay below ~1e-6 of the linear ones.
 constexpr double planar_regularization = 1e6;
+
+/// The fewest points of a corner cluster's sharp split-off part that reject the corner
+/// (`attempt_corner`): more than one stray normal.
+constexpr std::size_t corner_min_split = 3;
 
 /// A record being built: the world ball and the local fit (kept for the statistics).
 struct Record {
@@ -172,7 +177,7 @@ bool surrounded(const Context& cx, const Vec3d& x, const Vec3d& g, const std::ve
 }
 
 /// The support check (BuildOptions::support_check): how far from the centre the zero set of the
-/// local quadric inside the ball (and on the kept side of `plane` when given, world coordinates)
+/// local quadric inside the ball (and on the kept side of each of `planes`, world coordinates)
 /// lies near the input points. Sampled where the lines parallel to the three axes through an n x n
 /// grid of [-1, 1]^2 (local coordinates; n from 13 to support_max_lines) cross it. A sample x passes when
 ///  - an input point within 2 h of it (h = r sqrt(pi / m), the spacing of m points on a disc of
@@ -185,7 +190,7 @@ bool surrounded(const Context& cx, const Vec3d& x, const Vec3d& g, const std::ve
 /// Returns the smallest |u| of a failing sample (1 when none fails): the ball of that radius
 /// (relative to r) holds only supported samples. Returns early, with a value below `floor`, once a
 /// failing sample nearer than `floor` is found.
-double support_fraction(const Context& cx, const Quadric<double>& local, const Vec3d& c, double r, const Vec4d* plane, std::size_t m,
+double support_fraction(const Context& cx, const Quadric<double>& local, const Vec3d& c, double r, std::span<const Vec4d> planes, std::size_t m,
                         double floor, int min_lines = 13, double density = 3) {
     const double support = std::max(2.0 * r * std::sqrt(std::numbers::pi / double(std::max<std::size_t>(m, 1))), 2.0 * cx.threshold);
     const double gap_radius = 1.5 * support;
@@ -225,8 +230,9 @@ double support_fraction(const Context& cx, const Quadric<double>& local, const V
                     const double uu = dot(u, u);
                     if (!(uu < t * t)) continue;  // outside the ball, or no nearer than a failure found
                     const Vec3d x = c + u * r;
-                    const double side = plane ? dot(xyz(*plane), x) + (*plane)[3] : 0.0;
-                    if (side < 0) continue;
+                    bool outside = false;
+                    for (const Vec4d& pl : planes) outside = outside || dot(xyz(pl), x) + pl[3] < 0;
+                    if (outside) continue;
                     cx.grid.query(x, gap_test ? gap_radius : support, near);
                     // ... and one of them with a normal on the sample's side: a sheet folded back
                     // or a second sheet near other points has the opposite orientation.
@@ -245,10 +251,11 @@ double support_fraction(const Context& cx, const Quadric<double>& local, const V
                     // points fill only half of the circle. (A sheet parallel to its plane, as in
                     // a thin shell's pair, never comes near the crossing.)
                     bool at_plane = false;
-                    if (plane) {
-                        const double cos_gm = gl > 0 ? dot(g, xyz(*plane)) / gl : 1.0;
+                    for (const Vec4d& pl : planes) {
+                        const double side = dot(xyz(pl), x) + pl[3];
+                        const double cos_gm = gl > 0 ? dot(g, xyz(pl)) / gl : 1.0;
                         const double sin2 = std::max(0.0, 1 - cos_gm * cos_gm);
-                        at_plane = side * side < support * support * sin2;
+                        at_plane = at_plane || side * side < support * support * sin2;
                     }
                     const bool ok = agrees && (!gap_test || at_plane || surrounded(cx, x, g, near, angles));
                     if (ok) continue;
@@ -265,6 +272,7 @@ double support_fraction(const Context& cx, const Quadric<double>& local, const V
 double kept_fraction(double support) { return support >= 1 ? 1.0 : 0.9 * support; }
 
 bool attempt_pair(const Context& cx, const Vec3d& c, double r, const std::vector<std::uint32_t>& idx, SeedResult& out);
+bool attempt_corner(const Context& cx, const Vec3d& c, double r, const std::vector<std::uint32_t>& idx, SeedResult& out);
 
 /// Tries the ball (c, r) of `points`: a single quadric, else a sharp pair. `ok` when accepted.
 bool attempt_quadrics(const Context& cx, const Vec3d& c, double r, const std::vector<std::uint32_t>& idx, SeedResult& out) {
@@ -279,13 +287,59 @@ bool attempt_quadrics(const Context& cx, const Vec3d& c, double r, const std::ve
     bool single_ok = single.solved && single.oriented && single.max_distance <= cx.threshold;
     double t = 1;
     if (single_ok && cx.opt.support_check) {
-        t = support_fraction(cx, single.local, c, r, nullptr, idx.size(), cx.opt.min_support_fraction);
+        t = support_fraction(cx, single.local, c, r, {}, idx.size(), cx.opt.min_support_fraction);
         single_ok = t >= cx.opt.min_support_fraction;
     }
     // (Rejected: the whole ball's record, which grow_ball's forced case checks again.)
     if (single.solved) out.records.push_back(make_record(single, c, r, single_ok ? kept_fraction(t) : 1.0));
     if (single_ok || !cx.opt.sharp_features) return single_ok;
-    return attempt_pair(cx, c, r, idx, out);
+    return attempt_pair(cx, c, r, idx, out) || attempt_corner(cx, c, r, idx, out);
+}
+
+/// Whether the normals of cluster `sd` split (2-means) into two parts whose means are more than
+/// the sharp angle apart (cosine below cos_max), the smaller holding at least `min_part` points.
+bool splits_again(const std::vector<Vec3d>& N, const std::vector<std::uint32_t>& sd, double cos_max, std::size_t min_part) {
+    std::vector<unsigned char> sub_label;
+    Vec3d s0{}, s1{};
+    two_means(N, sd, sub_label, s0, s1);
+    std::size_t n1 = 0;
+    for (const unsigned char l : sub_label) n1 += l;
+    return dot(s0, s1) < cos_max && std::min(n1, sd.size() - n1) >= min_part;
+}
+
+/// The clip plane between two clusters of a ball's points (world; positive on cluster a's side):
+/// along m = (ma - mb) / |ma - mb| (the clusters' unit mean normals: it bisects their dihedral
+/// angle), the threshold with the fewest points of a below it and of b above it, or the reverse
+/// orientation, whichever is better; `misclassified` that count.
+Vec4d separating_plane(const std::vector<Vec3d>& P, const std::vector<std::uint32_t>& a, const std::vector<std::uint32_t>& b, const Vec3d& ma,
+                       const Vec3d& mb, const Vec3d& c, double r, std::size_t& misclassified) {
+    const Vec3d m = normalize(ma - mb);
+    std::vector<std::pair<double, unsigned char>> proj;
+    proj.reserve(a.size() + b.size());
+    for (const std::uint32_t i : a) proj.push_back({dot(m, P[i] - c), 0});
+    for (const std::uint32_t i : b) proj.push_back({dot(m, P[i] - c), 1});
+    std::sort(proj.begin(), proj.end());
+    // Errors for "a on the positive side" at split j (points [0, j) negative).
+    std::size_t na_below = 0, nb_below = 0;
+    const std::size_t na = a.size(), nb = b.size();
+    std::size_t best_err = std::numeric_limits<std::size_t>::max(), best_j = 0;
+    bool best_flip = false;
+    for (std::size_t j = 0; j <= proj.size(); ++j) {
+        if (j > 0) (proj[j - 1].second ? nb_below : na_below)++;
+        if (j > 0 && j < proj.size() && proj[j].first == proj[j - 1].first) continue;
+        const std::size_t e_pos = na_below + (nb - nb_below);   // a above
+        const std::size_t e_neg = nb_below + (na - na_below);   // a below
+        if (e_pos < best_err) { best_err = e_pos; best_j = j; best_flip = false; }
+        if (e_neg < best_err) { best_err = e_neg; best_j = j; best_flip = true; }
+    }
+    misclassified = best_err;
+    double t;
+    if (best_j == 0) t = proj.front().first - 1e-9 * r;
+    else if (best_j == proj.size()) t = proj.back().first + 1e-9 * r;
+    else t = 0.5 * (proj[best_j - 1].first + proj[best_j].first);
+    // Plane of a: s (m . (x - c) - t) >= 0, s = +1 unless flipped.
+    const double s = best_flip ? -1.0 : 1.0;
+    return vec4(m * s, -s * (dot(m, c) + t));
 }
 
 /// The sharp pair of the ball (c, r) (build.hpp, step 4). On success `out` holds the two records
@@ -305,53 +359,24 @@ bool attempt_pair(const Context& cx, const Vec3d& c, double r, const std::vector
     if (side[0].size() < need || side[1].size() < need) return false;
     // Neither side may split again (a corner: three faces in two clusters, one of them two faces
     // whose quadric draws both planes past their crease, where the clip plane, tilted between the
-    // clusters' means, does not cut them off).
-    for (const std::vector<std::uint32_t>& sd : side) {
-        std::vector<unsigned char> sub_label;
-        Vec3d s0{}, s1{};
-        two_means(N, sd, sub_label, s0, s1);
-        std::size_t n1 = 0;
-        for (const unsigned char l : sub_label) n1 += l;
-        if (dot(s0, s1) < cos_max && std::min(n1, sd.size() - n1) >= need) return false;
-    }
+    // clusters' means, does not cut them off; `attempt_corner` then).
+    for (const std::vector<std::uint32_t>& sd : side)
+        if (splits_again(N, sd, cos_max, need)) return false;
     out.fits += 2;
     const LocalFit f0 = fit_ball(P, N, side[0], c, r, cx.opt.fit), f1 = fit_ball(P, N, side[1], c, r, cx.opt.fit);
     const auto good = [&](const LocalFit& f) { return f.solved && f.oriented && f.max_distance <= cx.threshold; };
     if (!good(f0) || !good(f1)) return false;
-    // The clip plane: along m = (m0 - m1) / |m0 - m1|, the threshold with the fewest points of
-    // cluster 0 below it and of cluster 1 above it (or the reverse orientation, whichever is better).
-    const Vec3d m = normalize(m0 - m1);
-    std::vector<std::pair<double, unsigned char>> proj(idx.size());
-    for (std::size_t k = 0; k < idx.size(); ++k) proj[k] = {dot(m, P[idx[k]] - c), label[k]};
-    std::sort(proj.begin(), proj.end());
-    // Errors for "cluster 0 on the positive side" at split j (points [0, j) negative).
-    std::size_t n0_below = 0, n1_below = 0;
-    const std::size_t n0 = side[0].size(), n1 = side[1].size();
-    std::size_t best_err = std::numeric_limits<std::size_t>::max(), best_j = 0;
-    bool best_flip = false;
-    for (std::size_t j = 0; j <= proj.size(); ++j) {
-        if (j > 0) (proj[j - 1].second ? n1_below : n0_below)++;
-        if (j > 0 && j < proj.size() && proj[j].first == proj[j - 1].first) continue;
-        const std::size_t e_pos = n0_below + (n1 - n1_below);   // cluster 0 above
-        const std::size_t e_neg = n1_below + (n0 - n0_below);   // cluster 0 below
-        if (e_pos < best_err) { best_err = e_pos; best_j = j; best_flip = false; }
-        if (e_neg < best_err) { best_err = e_neg; best_j = j; best_flip = true; }
-    }
-    // A split the plane cannot make (e.g. a corner's three faces in two clusters) is no pair.
+    // The clip plane between the clusters (`separating_plane`); a split the plane cannot make
+    // (e.g. a corner's three faces in two clusters) is no pair.
+    std::size_t best_err = 0;
+    const Vec4d plane0 = separating_plane(P, side[0], side[1], m0, m1, c, r, best_err);
     if (double(best_err) > cx.opt.sharp_max_misclassified * double(idx.size())) return false;
-    double t;
-    if (best_j == 0) t = proj.front().first - 1e-9 * r;
-    else if (best_j == proj.size()) t = proj.back().first + 1e-9 * r;
-    else t = 0.5 * (proj[best_j - 1].first + proj[best_j].first);
-    // Plane of cluster 0 (world): s (m . (x - c) - t) >= 0, s = +1 unless flipped.
-    const double s = best_flip ? -1.0 : 1.0;
-    const Vec4d plane0 = vec4(m * s, -s * (dot(m, c) + t));
     const Vec4d plane1 = -plane0;
     double t0 = 1, t1 = 1;
     if (cx.opt.support_check) {
-        t0 = support_fraction(cx, f0.local, c, r, &plane0, idx.size(), cx.opt.min_support_fraction);
+        t0 = support_fraction(cx, f0.local, c, r, std::span<const Vec4d>(&plane0, 1), idx.size(), cx.opt.min_support_fraction);
         if (t0 < cx.opt.min_support_fraction) return false;
-        t1 = support_fraction(cx, f1.local, c, r, &plane1, idx.size(), cx.opt.min_support_fraction);
+        t1 = support_fraction(cx, f1.local, c, r, std::span<const Vec4d>(&plane1, 1), idx.size(), cx.opt.min_support_fraction);
         if (t1 < cx.opt.min_support_fraction) return false;
     }
     out.records.clear();
@@ -360,6 +385,107 @@ bool attempt_pair(const Context& cx, const Vec3d& c, double r, const std::vector
     out.records[0].ball.has_plane = out.records[1].ball.has_plane = true;
     out.records[0].ball.plane = plane0;
     out.records[1].ball.plane = -plane0;
+    out.side = label;
+    return true;
+}
+
+/// 3-means of the normals of `idx`: labels 0/1/2 and the unit cluster means. Seeds: the normal
+/// farthest from the mean, the one farthest from it, and the one farthest from both.
+void three_means(const std::vector<Vec3d>& n, const std::vector<std::uint32_t>& idx, std::vector<unsigned char>& label, Vec3d (&m)[3]) {
+    Vec3d mean = vec3(0.0, 0.0, 0.0);
+    for (const std::uint32_t i : idx) mean = mean + n[i];
+    std::size_t a = 0, b = 0, c = 0;
+    for (std::size_t k = 1; k < idx.size(); ++k)
+        if (dot(n[idx[k]], mean) < dot(n[idx[a]], mean)) a = k;
+    for (std::size_t k = 1; k < idx.size(); ++k)
+        if (dot(n[idx[k]], n[idx[a]]) < dot(n[idx[b]], n[idx[a]])) b = k;
+    const auto nearest = [&](std::size_t k) { return std::max(dot(n[idx[k]], n[idx[a]]), dot(n[idx[k]], n[idx[b]])); };
+    for (std::size_t k = 1; k < idx.size(); ++k)
+        if (nearest(k) < nearest(c)) c = k;
+    m[0] = n[idx[a]];
+    m[1] = n[idx[b]];
+    m[2] = n[idx[c]];
+    label.assign(idx.size(), 0);
+    for (int round = 0; round < 10; ++round) {
+        Vec3d sum[3] = {vec3(0.0, 0.0, 0.0), vec3(0.0, 0.0, 0.0), vec3(0.0, 0.0, 0.0)};
+        for (std::size_t k = 0; k < idx.size(); ++k) {
+            const Vec3d& v = n[idx[k]];
+            unsigned char l = 0;
+            for (unsigned char j = 1; j < 3; ++j)
+                if (dot(v, m[j]) > dot(v, m[l])) l = j;
+            label[k] = l;
+            sum[l] = sum[l] + v;
+        }
+        for (int j = 0; j < 3; ++j)
+            if (!(length(sum[j]) > 0)) return;
+        for (int j = 0; j < 3; ++j) m[j] = normalize(sum[j]);
+    }
+}
+
+/// The corner of the ball (c, r) (build.hpp, step 4): three faces, each its own record clipped by
+/// the two planes that separate its cluster from the other two. On success `out` holds the three
+/// records and the points' sides; otherwise `out` is unchanged.
+bool attempt_corner(const Context& cx, const Vec3d& c, double r, const std::vector<std::uint32_t>& idx, SeedResult& out) {
+    const auto& P = cx.pts.positions;
+    const auto& N = cx.pts.normals;
+    std::vector<unsigned char> label;
+    Vec3d m[3];
+    three_means(N, idx, label, m);
+    // Three clusters, each pair of means farther apart than the sharp angle, each large enough.
+    const double cos_max = std::cos(cx.opt.sharp_angle_degrees * std::numbers::pi / 180);
+    for (int i = 0; i < 3; ++i)
+        if (!(dot(m[i], m[(i + 1) % 3]) < cos_max)) return false;
+    std::vector<std::uint32_t> side[3];
+    for (std::size_t k = 0; k < idx.size(); ++k) side[label[k]].push_back(idx[k]);
+    const std::size_t need = std::max(cx.opt.min_points, std::size_t(std::ceil(cx.opt.sharp_min_fraction * double(idx.size()))));
+    for (const std::vector<std::uint32_t>& sd : side)
+        if (sd.size() < need) return false;
+    // No cluster may split again, however few points the split-off part holds (four faces in three
+    // clusters: one quadric would draw two of them, as the plane pair x y = 0, or bend to reach a
+    // fourth face's few points, and the planes, tilted by the merged cluster's mean, would not end
+    // the faces at their edges; a smaller ball is tried instead).
+    for (const std::vector<std::uint32_t>& sd : side)
+        if (splits_again(N, sd, cos_max, corner_min_split)) return false;
+    out.fits += 3;
+    LocalFit f[3];
+    for (int i = 0; i < 3; ++i) {
+        f[i] = fit_ball(P, N, side[i], c, r, cx.opt.fit);
+        if (!(f[i].solved && f[i].oriented && f[i].max_distance <= cx.threshold)) return false;
+    }
+    // One plane per two clusters (positive on the first's side); cluster i keeps the side of its
+    // own of both of its planes. So no two records draw the same point; they leave no gap where
+    // the three planes meet in a line (as the bisectors of three planar faces do).
+    Vec4d planes[3][2];
+    for (int i = 0; i < 3; ++i) {
+        const int j = (i + 1) % 3;
+        std::size_t err = 0;
+        const Vec4d pl = separating_plane(P, side[i], side[j], m[i], m[j], c, r, err);
+        planes[i][0] = pl;
+        planes[j][1] = -pl;
+    }
+    // Points outside their own cluster's wedge.
+    std::size_t wrong = 0;
+    for (int i = 0; i < 3; ++i)
+        for (const std::uint32_t p : side[i]) {
+            bool in = true;
+            for (int k = 0; k < 2; ++k) in = in && dot(xyz(planes[i][k]), P[p]) + planes[i][k][3] >= 0;
+            wrong += in ? 0 : 1;
+        }
+    if (double(wrong) > cx.opt.sharp_max_misclassified * double(idx.size())) return false;
+    double t[3] = {1, 1, 1};
+    if (cx.opt.support_check)
+        for (int i = 0; i < 3; ++i) {
+            t[i] = support_fraction(cx, f[i].local, c, r, std::span<const Vec4d>(planes[i], 2), idx.size(), cx.opt.min_support_fraction);
+            if (t[i] < 1.0) return false;
+        }
+    out.records.clear();
+    for (int i = 0; i < 3; ++i) {
+        out.records.push_back(make_record(f[i], c, r, kept_fraction(t[i])));
+        Ball& b = out.records.back().ball;
+        b.has_plane = b.has_plane2 = true;
+        b.plane = planes[i][0];
+        b.plane2 = planes[i][1];
+    }
     out.side = label;
     return true;
 }
@@ -377,7 +503,7 @@ bool attempt(const Context& cx, const Vec3d& c, double r, const std::vector<std:
     ++out.fits;
     const LocalFit plane = fit_ball(cx.pts.positions, cx.pts.normals, idx, c, r, planar);
     if (!(plane.solved && plane.oriented && plane.max_distance <= cx.threshold)) return false;
-    const double t = support_fraction(cx, plane.local, c, r, nullptr, idx.size(), cx.opt.min_support_fraction);
+    const double t = support_fraction(cx, plane.local, c, r, {}, idx.size(), cx.opt.min_support_fraction);
     if (t < cx.opt.min_support_fraction) return false;
     out.records.assign(1, make_record(plane, c, r, kept_fraction(t)));
     out.side.assign(idx.size(), 0);
@@ -446,7 +572,7 @@ SeedResult grow_ball(const Context& cx, std::uint32_t seed) {
             if (best.records.size() > 1) best.records.resize(1);
             if (cx.opt.support_check) {
                 const std::size_t m = best.points.size();
-                double t = best.records.empty() ? 0.0 : support_fraction(cx, best.records[0].local, c, best.radius, nullptr, m, cx.opt.min_support_fraction);
+                double t = best.records.empty() ? 0.0 : support_fraction(cx, best.records[0].local, c, best.radius, {}, m, cx.opt.min_support_fraction);
                 if (t >= cx.opt.min_support_fraction) {
                     const LocalFit fit{true, best.records[0].local};
                     best.records.assign(1, make_record(fit, c, best.radius, kept_fraction(t)));
@@ -460,7 +586,7 @@ SeedResult grow_ball(const Context& cx, std::uint32_t seed) {
                     plane.local = quadric_from_coefficients(k);
                     // At least a quarter of the ball: the plane passes through the seed, with its
                     // normal, and a seed on a crease fails the boundary test at the centre.
-                    t = support_fraction(cx, plane.local, c, best.radius, nullptr, m, 0.0);
+                    t = support_fraction(cx, plane.local, c, best.radius, {}, m, 0.0);
                     best.records.assign(1, make_record(plane, c, best.radius, std::max(kept_fraction(t), 0.25)));
                 }
             }
@@ -567,6 +693,7 @@ BuildResult build(const OrientedPoints& points, const BuildOptions& options) {
                 locals.push_back(rec.local);
             }
             if (r.records.size() == 2) ++st.sharp_pairs;
+            if (r.records.size() == 3) ++st.corners;
             if (r.forced) ++st.forced;
             const Vec3d c = points.positions[batch[k]];
             for (std::size_t j = 0; j < r.points.size(); ++j) {
@@ -595,7 +722,9 @@ BuildResult build(const OrientedPoints& points, const BuildOptions& options) {
                 Ball& ball = res.model.balls[i];
                 std::vector<std::uint32_t> in;
                 grid.query(ball.center, ball.radius, in);
-                const double t = support_fraction(cx, locals[i], ball.center, ball.radius, ball.has_plane ? &ball.plane : nullptr, in.size(), 0.0, 31, 6);
+                const Vec4d planes[2] = {ball.plane, ball.plane2};
+                const std::size_t n_planes = ball.has_plane ? (ball.has_plane2 ? 2 : 1) : 0;
+                const double t = support_fraction(cx, locals[i], ball.center, ball.radius, std::span<const Vec4d>(planes, n_planes), in.size(), 0.0, 31, 6);
                 if (t >= 1) return;
                 ball.radius *= std::max(kept_fraction(t), 0.5);
                 locals[i] = world_to_local(ball.q, ball.center, ball.radius);

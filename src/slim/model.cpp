@@ -31,7 +31,7 @@ const char* const kPlaneFields[4] = {"plane a", "plane b", "plane c", "plane d"}
 
 void write_model(std::ostream& out, const Model& model) {
     out << "quadcast-slim " << model_format_version << "\n";
-    out << "# ball cx cy cz r k000 k100 k010 k001 k110 k011 k101 k200 k020 k002 [plane a b c d]\n";
+    out << "# ball cx cy cz r k000 k100 k010 k001 k110 k011 k101 k200 k020 k002 [plane a b c d [plane a b c d]]\n";
     out << "balls " << model.balls.size() << "\n";
     for (const Ball& b : model.balls) {
         const Coefficients10<double> k = coefficients(b.q);
@@ -39,6 +39,8 @@ void write_model(std::ostream& out, const Model& model) {
         for (double v : {k.k000, k.k100, k.k010, k.k001, k.k110, k.k011, k.k101, k.k200, k.k020, k.k002}) out << ' ' << num(v);
         if (b.has_plane)
             out << " plane " << num(b.plane[0]) << ' ' << num(b.plane[1]) << ' ' << num(b.plane[2]) << ' ' << num(b.plane[3]);
+        if (b.has_plane && b.has_plane2)
+            out << " plane " << num(b.plane2[0]) << ' ' << num(b.plane2[1]) << ' ' << num(b.plane2[2]) << ' ' << num(b.plane2[3]);
         out << "\n";
     }
 }
@@ -78,8 +80,9 @@ Model parse_model(std::istream& in, const std::string& file) {
     };
     std::vector<std::string> t = next();
     if (t.empty() || t[0] != "quadcast-slim") fail("header", "not a quadcast SLIM model (expected 'quadcast-slim 1')");
-    if (t.size() != 2 || t[1] != std::to_string(model_format_version))
-        fail("version", "unsupported version " + (t.size() > 1 ? quote_token(t[1]) : std::string("(none)")) + " (this reader reads 1)");
+    if (t.size() != 2 || (t[1] != "1" && t[1] != std::to_string(model_format_version)))
+        fail("version", "unsupported version " + (t.size() > 1 ? quote_token(t[1]) : std::string("(none)")) + " (this reader reads 1 and 2)");
+    const bool two_planes = t[1] != "1";
     t = next();
     if (t.size() != 2 || t[0] != "balls") fail("balls", "expected 'balls <count>'");
     long long n = -1;
@@ -94,8 +97,11 @@ Model parse_model(std::istream& in, const std::string& file) {
         t = next();
         if (t.empty()) fail(what, "the file ends after " + std::to_string(i) + " of " + std::to_string(n) + " balls (truncated?)");
         if (t[0] != "ball") fail(what, "expected 'ball', found " + quote_token(t[0]));
-        if (t.size() != 15 && !(t.size() == 20 && t[15] == "plane"))
-            fail(what, "expected 'ball' and 14 numbers, optionally 'plane' and 4 numbers; found " + std::to_string(t.size()) + " values");
+        const bool one = t.size() == 20 && t[15] == "plane", two = t.size() == 25 && t[15] == "plane" && t[20] == "plane";
+        if (t.size() == 25 && !two_planes) fail(what, "a second plane needs version 2 (the file says 'quadcast-slim 1')");
+        if (t.size() != 15 && !one && !two)
+            fail(what, std::string("expected 'ball' and 14 numbers, optionally 'plane' and 4 numbers") + (two_planes ? " (twice)" : "") + "; found " +
+                           std::to_string(t.size()) + " values");
         double v[14];
         for (int k = 0; k < 14; ++k) v[k] = number(t[std::size_t(1 + k)], what + " " + kBallFields[k]);
         Ball b;
@@ -106,10 +112,15 @@ Model parse_model(std::istream& in, const std::string& file) {
         bool zero = true;
         for (int k = 4; k < 14; ++k) zero = zero && v[k] == 0;
         if (zero) fail(what, "the quadric is zero");
-        if (t.size() == 20) {
+        if (t.size() >= 20) {
             for (int k = 0; k < 4; ++k) b.plane[k] = number(t[std::size_t(16 + k)], what + " " + kPlaneFields[k]);
             if (b.plane[0] == 0 && b.plane[1] == 0 && b.plane[2] == 0) fail(what + " plane", "the plane's normal (a, b, c) is zero");
             b.has_plane = true;
+        }
+        if (t.size() == 25) {
+            for (int k = 0; k < 4; ++k) b.plane2[k] = number(t[std::size_t(21 + k)], what + " second " + kPlaneFields[k]);
+            if (b.plane2[0] == 0 && b.plane2[1] == 0 && b.plane2[2] == 0) fail(what + " second plane", "the plane's normal (a, b, c) is zero");
+            b.has_plane2 = true;
         }
         m.balls.push_back(b);
     }

@@ -15,7 +15,11 @@ std::vector<scene::SlimBall> scene_balls(const Model& m) {
         s.radius = b.radius;
         s.q = b.q.q;
         s.has_plane = b.has_plane;
-        for (int i = 0; i < 4; ++i) s.plane[static_cast<std::size_t>(i)] = b.plane[i];
+        s.has_plane2 = b.has_plane && b.has_plane2;
+        for (int i = 0; i < 4; ++i) {
+            s.plane[static_cast<std::size_t>(i)] = b.plane[i];
+            s.plane2[static_cast<std::size_t>(i)] = b.plane2[i];
+        }
         out.push_back(s);
     }
     return out;

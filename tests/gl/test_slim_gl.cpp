@@ -183,6 +183,36 @@ TEST_CASE("the GL SLIM renderer and the CPU reference agree where the near and f
     }
 }
 
+TEST_CASE("the GL SLIM renderer draws a cube's corner triples (two clip planes per record) as the CPU reference does") {
+    // Every corner of the cube becomes records clipped by two planes (slim::build's corners); the
+    // perspective view sees the corner (1, 1, 1) and its three faces.
+    gl::OsmesaContext ctx;
+    const int w = 200, h = 150;
+    const slim::OrientedPoints pts = slim::testing::box_points(vec3(1.0, 1.0, 1.0), 0.03, 11);
+    for (const bool ortho : {false, true}) {
+        for (const bool culling : {true, false}) {
+            CAPTURE(ortho);
+            CAPTURE(culling);
+            double E = 0;
+            const render::Frame fr = slim_frame(pts, 3e-3, ortho, culling, w, h, &E);
+            long two_planes = 0;
+            for (const render::Primitive& b : fr.slim_balls) two_planes += b.shape.planes[1][0] != 0.0f || b.shape.planes[1][1] != 0.0f || b.shape.planes[1][2] != 0.0f;
+            const render::Image cpu = render::render_slim_cpu(fr.slim_balls, fr.camera, fr.light, fr.options);
+            const GlSlim g = draw_gl(ctx, fr, 32);
+            const qc_render_test::ImageDiff d = qc_render_test::image_diff(g.image, cpu, 1);
+            std::printf("[slim gl] cube corners, %s, culling %s: %zu balls, %ld with two planes, %ld covered px, GL vs CPU: %ld coverage differences, "
+                        "%ld colour differences > 1 LSB, max depth difference %.3g\n",
+                        ortho ? "orthographic" : "perspective", culling ? "on" : "off", fr.slim_balls.size(), two_planes, d.covered, d.coverage_diff,
+                        d.color_diff, d.max_depth);
+            CHECK(two_planes >= 24);
+            CHECK(d.covered > w * h / 8);
+            CHECK(d.coverage_diff <= d.covered / 500);
+            CHECK(d.color_diff <= d.covered / 200);
+            CHECK(d.max_depth < 1e-5);
+        }
+    }
+}
+
 TEST_CASE("the SLIM renderer rejects bad balls and precisions") {
     gl::OsmesaContext ctx;
     gl::SlimRenderer s(ctx.api());

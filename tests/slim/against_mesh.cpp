@@ -251,48 +251,6 @@ TEST_CASE("no seams on the bunny: neighbouring pixels of one sheet differ in ble
     CHECK(percentile(seams, 0.999) <= 15.0);
 }
 
-namespace {
-
-/// Calls f(x) for points of a record's zero set (long double): where the lines parallel to the three
-/// axes through an n x n grid over the ball's bounding square cross its quadric, inside the ball
-/// and on the kept side of its clip plane.
-template <class F>
-void zero_set_samples(const Ball& b, int n, F&& f) {
-    Quadric<long double> q;
-    for (int j = 0; j < 4; ++j)
-        for (int i = 0; i < 4; ++i) q.q[j][i] = b.q.q[j][i];
-    const V3L c = to_long(b.center);
-    const long double r = b.radius;
-    for (int a = 0; a < 3; ++a)
-        for (int i = 0; i < n; ++i)
-            for (int j = 0; j < n; ++j) {
-                V3L p = c, e = vec3(0.0L, 0.0L, 0.0L);
-                p[(a + 1) % 3] += r * (2.0L * (i + 0.5L) / n - 1);
-                p[(a + 2) % 3] += r * (2.0L * (j + 0.5L) / n - 1);
-                e[a] = r;
-                // q(p + s e) = A s^2 + B s + C, exactly from three values.
-                const long double fm = evaluate(q, p - e), f0 = evaluate(q, p), fp = evaluate(q, p + e);
-                const long double A = 0.5L * (fp + fm) - f0, B = 0.5L * (fp - fm), C = f0;
-                long double s[2];
-                int m = 0;
-                if (A == 0) {
-                    if (B != 0) s[m++] = -C / B;
-                } else if (B * B - 4 * A * C >= 0) {
-                    const long double h = -0.5L * (B + std::copysign(std::sqrt(B * B - 4 * A * C), B));
-                    s[m++] = h / A;
-                    if (h != 0) s[m++] = C / h;
-                }
-                for (int k = 0; k < m; ++k) {
-                    const V3L x = p + e * s[k];
-                    if (dot(x - c, x - c) > r * r) continue;
-                    if (b.has_plane && b.plane[0] * x[0] + b.plane[1] * x[1] + b.plane[2] * x[2] + b.plane[3] < 0) continue;
-                    f(x);
-                }
-            }
-}
-
-}  // namespace
-
 TEST_CASE("no fins at creases and corners: every record's zero set in its ball lies near the faces of an L-shaped prism") {
     // A quadric continued past a crease (one face's plane beyond its edge, or the plane pair x y = 0
     // of a ball across the crease) or past a corner is drawn by the renderers as a fin or a blob
@@ -336,9 +294,10 @@ TEST_CASE("no fins at creases and corners: every record's zero set in its ball l
                 << b.slim.stats.forced << " forced); " << samples << " zero-set samples, " << beyond_2e << " farther than 2 E from the faces, "
                 << beyond_3e << " farther than 3 E, the farthest " << double(worst / E) << " E");
         CHECK(samples > 100 * long(b.slim.stats.balls));
-        // Measured: 20 samples beyond 2 E, the farthest 2.67 E; without the boundary test 639 and
-        // 3.1 E; without the support check 92454 and 81 E.
+        // Measured (with corner triples): 8 samples beyond 2 E, the farthest 2.31 E; without the
+        // boundary test 300 and 2.95 E; without the support check 27883 and 81 E. (Before the
+        // triples: 20 and 2.67 E, 639 and 3.1 E, 92454 and 81 E.)
         if (v.support && v.max_gap < 360) CHECK(beyond_3e == 0);
-        else CHECK(beyond_2e > 300);  // the measure sees the fins the boundary test removes
+        else CHECK(beyond_2e > 100);  // the measure sees the fins the boundary test removes
     }
 }

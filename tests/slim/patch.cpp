@@ -45,7 +45,7 @@ render::Primitive ball(const Mat3<double>& A, const Vec3<double>& b, double c, c
 
 /// Points of a ball's patch: where lines parallel to the axes (n x n per axis, across the ball)
 /// cross the quadric (the float coefficients, in long double) inside the ball and on the kept side
-/// of the plane; local coordinates.
+/// of both planes; local coordinates.
 std::vector<V3L> patch_samples(const render::Primitive& p, int n) {
     const ClippedQuadric<float>& s = p.shape;
     L A[3][3], b[3];
@@ -85,7 +85,10 @@ std::vector<V3L> patch_samples(const render::Primitive& p, int n) {
                     V3L x = o;
                     x[axis] = ts[k];
                     if (dot(x, x) > r * r) continue;
-                    if (L(s.planes[0][0]) * x[0] + L(s.planes[0][1]) * x[1] + L(s.planes[0][2]) * x[2] + L(s.planes[0][3]) < 0) continue;
+                    bool kept = true;
+                    for (int q = 0; q < 2; ++q)
+                        kept = kept && L(s.planes[q][0]) * x[0] + L(s.planes[q][1]) * x[1] + L(s.planes[q][2]) * x[2] + L(s.planes[q][3]) >= 0;
+                    if (!kept) continue;
                     out.push_back(x);
                 }
             }
@@ -157,6 +160,13 @@ std::vector<render::Primitive> random_balls(int count, std::uint64_t seed) {
         if (u(rng) < 0.4) plane = vec4(R[0] * (u(rng) < 0.5 ? 1.0 : -1.0) + R[1] * (u(rng) - 0.5), (u(rng) - 0.5) * r);
         if (i % 23 == 22) c = 10.0 * r;  // a plane far outside the ball: empty
         out.push_back(ball(A, b, c, center, r, plane));
+        // Half of the clipped balls get a second plane (a corner's record), across the first.
+        if (plane[0] != 0.0 || plane[1] != 0.0 || plane[2] != 0.0) {
+            if (u(rng) < 0.5)
+                out.back().shape.planes[1] = cast<float>(vec4(R[2] * (u(rng) < 0.5 ? 1.0 : -1.0) + R[0] * (u(rng) - 0.5), (u(rng) - 0.5) * r));
+            else
+                out.back().shape.planes[1] = vec4(0.0f, 0.0f, 0.0f, 1.0f);
+        }
     }
     return out;
 }

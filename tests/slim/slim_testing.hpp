@@ -125,6 +125,71 @@ inline const std::vector<render::Primitive>& model_balls(const char* file, doubl
     return built[key] = render::build_frame(s, 64, 48).slim_balls;
 }
 
+/// Points on the faces of the box [-H, H] with their exact outward face normals: every face cut
+/// into a grid of cells of side about h, one point per cell, uniform in the central 90% of the
+/// cell (seeded): about uniform in area, never on an edge (at least h / 20 from it).
+inline OrientedPoints box_points(const Vec3d& H, double h, std::uint64_t seed) {
+    OrientedPoints p;
+    p.file = "box";
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> u(0.05, 0.95);
+    for (int a = 0; a < 3; ++a)
+        for (const int s : {-1, 1}) {
+            const int b = (a + 1) % 3, c = (a + 2) % 3;
+            const int nb = std::max(1, int(std::lround(2 * H[b] / h))), nc = std::max(1, int(std::lround(2 * H[c] / h)));
+            for (int i = 0; i < nb; ++i)
+                for (int j = 0; j < nc; ++j) {
+                    Vec3d x = vec3(0.0, 0.0, 0.0), n = vec3(0.0, 0.0, 0.0);
+                    x[a] = s * H[a];
+                    x[b] = -H[b] + (i + u(rng)) * 2 * H[b] / nb;
+                    x[c] = -H[c] + (j + u(rng)) * 2 * H[c] / nc;
+                    n[a] = s;
+                    p.positions.push_back(x);
+                    p.normals.push_back(n);
+                }
+        }
+    return p;
+}
+
+/// Calls f(x) for points of a record's zero set (long double roots): where the lines parallel to
+/// the three axes through an n x n grid over the ball's bounding square cross its quadric, inside
+/// the ball and on the kept side of its clip planes (as the renderers draw it).
+template <class F>
+inline void zero_set_samples(const Ball& b, int n, F&& f) {
+    Quadric<long double> q;
+    for (int j = 0; j < 4; ++j)
+        for (int i = 0; i < 4; ++i) q.q[j][i] = b.q.q[j][i];
+    const V3L c = to_long(b.center);
+    const long double r = b.radius;
+    auto kept = [](bool has, const Vec<double, 4>& p, const V3L& x) -> bool { return !has || p[0] * x[0] + p[1] * x[1] + p[2] * x[2] + p[3] >= 0; };
+    for (int a = 0; a < 3; ++a)
+        for (int i = 0; i < n; ++i)
+            for (int j = 0; j < n; ++j) {
+                V3L p = c, e = vec3(0.0L, 0.0L, 0.0L);
+                p[(a + 1) % 3] += r * (2.0L * (i + 0.5L) / n - 1);
+                p[(a + 2) % 3] += r * (2.0L * (j + 0.5L) / n - 1);
+                e[a] = r;
+                // q(p + s e) = A s^2 + B s + C, exactly from three values.
+                const long double fm = evaluate(q, p - e), f0 = evaluate(q, p), fp = evaluate(q, p + e);
+                const long double A = 0.5L * (fp + fm) - f0, B = 0.5L * (fp - fm), C = f0;
+                long double s[2];
+                int m = 0;
+                if (A == 0) {
+                    if (B != 0) s[m++] = -C / B;
+                } else if (B * B - 4 * A * C >= 0) {
+                    const long double h = -0.5L * (B + std::copysign(std::sqrt(B * B - 4 * A * C), B));
+                    s[m++] = h / A;
+                    if (h != 0) s[m++] = C / h;
+                }
+                for (int k = 0; k < m; ++k) {
+                    const V3L x = p + e * s[k];
+                    if (dot(x - c, x - c) > r * r) continue;
+                    if (!kept(b.has_plane, b.plane, x) || !kept(b.has_plane && b.has_plane2, b.plane2, x)) continue;
+                    f(x);
+                }
+            }
+}
+
 /// The q-quantile of v (the element at index q n of the sorted values, clamped), 0 for none.
 inline double percentile(std::vector<double> v, double q) {
     if (v.empty()) return 0;

@@ -57,7 +57,7 @@ void add_slim_build(CLI::App& app) {
             const slim::BuildStats& s = r.stats;
             std::printf("input %s: %zu oriented points (read in %.3f s), bounding-box diagonal %.6g\n", opt->input.c_str(), s.points, read_s, s.diagonal);
             std::printf("threshold %.3g of the diagonal = %.6g\n", opt->error, s.threshold);
-            std::printf("balls %zu (sharp pairs %zu, forced %zu over the threshold)\n", s.balls, s.sharp_pairs, s.forced);
+            std::printf("balls %zu (sharp pairs %zu, corners %zu, forced %zu over the threshold)\n", s.balls, s.sharp_pairs, s.corners, s.forced);
             std::printf("build time %.3f s (%zu fits, %zu seeds dropped)\n", s.seconds, s.fits, s.dropped_seeds);
             std::printf("fit distance over the input points: rms %.6g (%.3g of the diagonal), max %.6g (%.3g), %zu points over the threshold\n",
                         s.rms_distance, s.rms_distance / s.diagonal, s.max_distance, s.max_distance / s.diagonal, s.over_threshold);

@@ -47,8 +47,8 @@ public:
     void set_precision(int bits);
     int precision() const;
 
-    /// Uploads the balls (render::validate_slim_balls: `bounded` primitives, clip plane in
-    /// shape.planes[0]; throws std::invalid_argument before anything is uploaded) and their patch
+    /// Uploads the balls (render::validate_slim_balls: `bounded` primitives, clip planes in
+    /// shape.planes[0] and shape.planes[1]; throws std::invalid_argument before anything is uploaded) and their patch
     /// bounds (render::slim_patches, on all cores: about 0.1 ms per ball).
     void set_balls(const std::vector<render::Primitive>& balls);
     std::size_t ball_count() const;

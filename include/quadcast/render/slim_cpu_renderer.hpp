@@ -9,7 +9,8 @@
 //               GL_LEQUAL, no depth writes, additive blending into float targets);
 //   resolve     `slim_resolve`, then `shade_blinn_phong` as the deferred pass shades.
 // A ball is a Primitive of variant `bounded` (shapes::quadric with a SphereBound) whose
-// shape.planes[0] is its clip plane in local coordinates ((0, 0, 0, 1): none). Per-quadric
+// shape.planes[0] is its clip plane in local coordinates ((0, 0, 0, 1): none) and shape.planes[1]
+// a second one (a corner's; (0, 0, 0, 1) or (0, 0, 0, 0): none). Per-quadric
 // back-face culling (`culled`) and per-fragment culling (front root only) follow
 // RenderOptions::culling, as for the quadric renderer; with RenderOptions::tight_bounds a ball is
 // bound by its patch (quadcast/render/slim_patch.hpp: `slim_pixels`, and with culling
@@ -42,7 +43,8 @@ struct SlimPixel {
 };
 
 /// Throws std::invalid_argument when a ball is not a `bounded` primitive with a finite clip plane
-/// whose normal is not zero (or the plane (0, 0, 0, 1)), or fails `validate_primitives`.
+/// whose normal is not zero (or the plane (0, 0, 0, 1)) and a finite second clip plane whose normal
+/// is not zero (or (0, 0, 0, d), d >= 0: none), or fails `validate_primitives`.
 inline void validate_slim_balls(const std::vector<Primitive>& balls) {
     validate_primitives(balls);
     for (std::size_t i = 0; i < balls.size(); ++i) {
@@ -55,6 +57,11 @@ inline void validate_slim_balls(const std::vector<Primitive>& balls) {
             if (!std::isfinite(pl[k])) throw std::invalid_argument("quadcast::render: SLIM ball " + std::to_string(i) + ": clip plane is not finite");
         if (pl[0] == 0.0f && pl[1] == 0.0f && pl[2] == 0.0f && !(pl[3] > 0.0f))
             throw std::invalid_argument("quadcast::render: SLIM ball " + std::to_string(i) + ": clip plane has a zero normal and keeps nothing");
+        const Vec4<float>& p2 = b.shape.planes[1];
+        for (int k = 0; k < 4; ++k)
+            if (!std::isfinite(p2[k])) throw std::invalid_argument("quadcast::render: SLIM ball " + std::to_string(i) + ": second clip plane is not finite");
+        if (p2[0] == 0.0f && p2[1] == 0.0f && p2[2] == 0.0f && p2[3] < 0.0f)
+            throw std::invalid_argument("quadcast::render: SLIM ball " + std::to_string(i) + ": second clip plane has a zero normal and keeps nothing");
     }
 }
 

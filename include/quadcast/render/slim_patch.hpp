@@ -9,7 +9,7 @@
 // R = r (1 + 2^-8) (room for the rounding of the renderers' float hits), the cube [-1, 1]^3 is
 // split `depth` times into 8, and a box is kept while it may hold a point of the patch:
 //   - it meets the unit ball: sum_i max(|p_i| - s, 0)^2 <= 1 (box centre p, half-size s);
-//   - it reaches the kept side of the clip plane n . x + d >= 0 within 2^-8 R:
+//   - it reaches the kept side of each clip plane n . x + d >= 0 within 2^-8 R:
 //     n' . p + d + s |n'|_1 >= -2^-8 R |n| (n' = R n);
 //   - the quadric F(u) = f(R u) may vanish in it: |F(p)| <= 2 s |g|_1 + s^2 sum |A'_ij| + slack,
 //     g = A' p + b' (F(p + e) = F(p) + 2 g . e + e^T A' e for |e|_inf <= s), the slack
@@ -48,8 +48,8 @@ namespace slim_patch_detail {
 /// the enlarged ball, and the boxes (centre u, half-size s) that may hold a point of the patch.
 struct UnitPatch {
     Mat3<double> A;
-    Vec3<double> b, n;
-    double c, d, plane_tol;
+    Vec3<double> b, n, n2;
+    double c, d, d2, plane_tol, plane_tol2;
 
     Vec3<double> gradient_half(const Vec3<double>& u) const { return A * u + b; }
 
@@ -59,15 +59,16 @@ struct UnitPatch {
         for (int j = 0; j < 3; ++j)
             for (int i = 0; i < 3; ++i) abs_sum += std::abs(A[j][i]);
         const double slack = std::ldexp(std::abs(c) + 2.0 * norm1(b) + abs_sum, -40);
-        const double n1 = norm1(n);
+        const double n1 = norm1(n), n21 = norm1(n2);
         auto may_hold = [&](const Vec3<double>& u, double s) {
-            double d2 = 0.0;
+            double dist2 = 0.0;
             for (int i = 0; i < 3; ++i) {
                 const double e = std::max(std::abs(u[i]) - s, 0.0);
-                d2 += e * e;
+                dist2 += e * e;
             }
-            if (d2 > 1.0) return false;
+            if (dist2 > 1.0) return false;
             if (dot(n, u) + d + s * n1 < -plane_tol) return false;
+            if (dot(n2, u) + d2 + s * n21 < -plane_tol2) return false;
             const Vec3<double> g = gradient_half(u);
             const double f = (dot(g, u) + dot(b, u)) + c;
             return std::abs(f) <= 2.0 * s * norm1(g) + s * s * abs_sum + slack;
@@ -95,6 +96,7 @@ struct UnitPatch {
         r.A = mt * A * M;
         r.b = mt * b;
         r.n = mt * n;
+        r.n2 = mt * n2;
         return r;
     }
 
@@ -104,7 +106,7 @@ struct UnitPatch {
 }  // namespace slim_patch_detail
 
 /// The bound of one SLIM ball's patch (see the top of this file). `p`: the ball as the renderers
-/// hold it (`ClippedQuadric` of a `bounded` primitive, the clip plane in planes[0]).
+/// hold it (`ClippedQuadric` of a `bounded` primitive, the clip planes in planes[0] and planes[1]).
 inline SlimPatch<float> slim_patch(const ClippedQuadric<float>& p, int depth = slim_patch_depth) {
     using slim_patch_detail::UnitPatch;
     // The quadric and the plane in unit coordinates of the enlarged ball
@@ -117,6 +119,9 @@ inline SlimPatch<float> slim_patch(const ClippedQuadric<float>& p, int depth = s
     up.n = cast<double>(xyz(p.planes[0])) * R;
     up.d = double(p.planes[0][3]);
     up.plane_tol = std::ldexp(length(up.n), -8);
+    up.n2 = cast<double>(xyz(p.planes[1])) * R;
+    up.d2 = double(p.planes[1][3]);
+    up.plane_tol2 = std::ldexp(length(up.n2), -8);
     SlimPatch<float> out{};
     out.axis_rho = vec4(0.0f, 0.0f, 1.0f, 0.0f);
     out.slab_cone = vec4(1.0f, -1.0f, 0.0f, 1.0f);  // empty

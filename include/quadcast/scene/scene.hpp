@@ -232,13 +232,16 @@ VolumeBoxFunction volume_box_function();
 
 /// One ball of a SLIM surface (quadcast::slim::Ball without the slim component's types): the
 /// world quadric x~^T q x~ clipped to the sphere (center, radius) and, with `has_plane`, to
-/// plane[0] x + plane[1] y + plane[2] z + plane[3] >= 0.
+/// plane[0] x + plane[1] y + plane[2] z + plane[3] >= 0, with `has_plane2` (a corner's) to plane2
+/// the same way too.
 struct SlimBall {
     Vec3d center;
     double radius = 0;
     Mat4d q;
     bool has_plane = false;
     std::array<double, 4> plane{};
+    bool has_plane2 = false;
+    std::array<double, 4> plane2{};
 };
 
 /// A SLIM surface (the "slim" object kind): a model file, or a point file built at relative

@@ -106,6 +106,7 @@ struct BuildStats {
     std::size_t points = 0;
     std::size_t balls = 0;             ///< records (a sharp pair is two)
     std::size_t sharp_pairs = 0;
+    std::size_t corners = 0;           ///< corner triples (three records each)
     std::size_t forced = 0;            ///< records kept although their fit exceeds E
     std::size_t fits = 0;              ///< quadric fits computed (dropped seeds included: depends on the threads)
     std::size_t dropped_seeds = 0;     ///< computed in a batch, then covered by an earlier ball (depends on the threads)
