@@ -293,7 +293,7 @@ bool attempt_quadrics(const Context& cx, const Vec3d& c, double r, const std::ve
     // (Rejected: the whole ball's record, which grow_ball's forced case checks again.)
     if (single.solved) out.records.push_back(make_record(single, c, r, single_ok ? kept_fraction(t) : 1.0));
     if (single_ok || !cx.opt.sharp_features) return single_ok;
-    return attempt_pair(cx, c, r, idx, out) || attempt_corner(cx, c, r, idx, out);
+    return attempt_pair(cx, c, r, idx, out) || (cx.opt.corners && attempt_corner(cx, c, r, idx, out));
 }
 
 /// Whether the normals of cluster `sd` split (2-means) into two parts whose means are more than

@@ -17,7 +17,7 @@ void add_slim_build(CLI::App& app) {
         double error = 0;
         slim::BuildOptions build;
         slim::ReadOptions read;
-        bool no_sharp = false, no_support = false;
+        bool no_sharp = false, no_corners = false, no_support = false;
         bool quiet = false;
     };
     auto opt = std::make_shared<Options>();
@@ -29,7 +29,8 @@ void add_slim_build(CLI::App& app) {
     cmd->add_option("--seed", opt->build.seed, "seed of the seed-point order (and of the mesh sampler)");
     cmd->add_option("--threads", opt->build.threads, "worker threads (0: all; the model is the same for any count)");
     cmd->add_option("--cover", opt->build.cover_fraction, "points within this fraction of a ball's radius are covered by it")->check(CLI::Range(0.05, 1.0));
-    cmd->add_flag("--no-sharp", opt->no_sharp, "no sharp-feature pairs (one quadric per ball)");
+    cmd->add_flag("--no-sharp", opt->no_sharp, "no sharp-feature pairs or corners (one quadric per ball)");
+    cmd->add_flag("--no-corners", opt->no_corners, "sharp pairs but no corner triples (a corner's faces left to smaller balls)");
     cmd->add_flag("--no-support", opt->no_support, "accept fits whose zero set leaves the input points inside the ball (no support check)");
     cmd->add_flag("--quiet", opt->quiet, "no progress on stderr");
     cmd->callback([opt] {
@@ -43,6 +44,7 @@ void add_slim_build(CLI::App& app) {
             for (const auto& w : pts.warnings) std::cerr << w.to_string() << "\n";
             opt->build.error = opt->error;
             opt->build.sharp_features = !opt->no_sharp;
+            opt->build.corners = !opt->no_corners;
             opt->build.support_check = !opt->no_support;
             if (!opt->quiet)
                 opt->build.progress = [last = std::chrono::steady_clock::now()](const slim::BuildProgress& p) mutable {

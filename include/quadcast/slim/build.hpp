@@ -36,6 +36,15 @@
 //     and the plane puts at most sharp_max_misclassified of the points on the wrong side (a
 //     corner's three faces split into two clusters are not separable by one plane). Note that an
 //     edge of two planar faces is often ONE quadric already: the plane pair x y = 0.
+//     Corners (`corners`): when the pair is rejected too, 3-means (seeded by the normal farthest
+//     from the mean, the one farthest from it, and the one farthest from both). Three clusters
+//     pairwise more than sharp_angle apart, each of at least max(min_points, sharp_min_fraction *
+//     n) points, none of which splits again (2-means, more than sharp_angle apart) with 3 or more
+//     points in its smaller part, get a quadric each, and the ball becomes THREE records with the
+//     same centre and radius, each with two clip planes: one plane per two clusters, found as for
+//     a pair, each record keeping its own side of its two. Accepted when all three fits are, at
+//     most sharp_max_misclassified of the points lie outside their cluster's wedge, and each
+//     record passes the support check with both planes over its whole ball (none trimmed).
 //  5. When even the min_points ball is rejected it is kept anyway ("forced"; counted): its
 //     quadric where the support check accepts it, else the seed's tangent plane, drawn as far as
 //     the support check accepts it (at least a quarter of the ball).
@@ -72,6 +81,8 @@ struct BuildOptions {
     double max_radius = 0.25;          ///< relative to the diagonal
     std::size_t min_points = 12;       ///< fewest points in a ball (>= 10)
     bool sharp_features = true;
+    /// With sharp_features: corner triples (step 4), else a corner's faces are left to smaller balls.
+    bool corners = true;
     /// Accept a fit only where its zero set in the ball (on its plane's side) stays within 2 point
     /// spacings of the input points and inside their edges (src/slim/build.cpp `support_fraction`;
     /// step 3 above): a quadric continued past an edge or a second sheet would be drawn by the
