@@ -84,6 +84,18 @@ constexpr double planar_regularization = 1e6;
 /// (`attempt_corner`): more than one stray normal.
 constexpr std::size_t corner_min_split = 3;
 
+/// How far a crease's face normals may spread about their mean (`rounds_crease`): CGAL's bunny and
+/// the coarse bunny_3k have pairs of facets more than 60 degrees apart whose normals spread 10-30
+/// degrees; counting those as creases cut their smooth sheets into planes (seams).
+constexpr double crease_face_spread_degrees = 5;
+
+/// The largest ball, in E, that `rounds_crease` examines: the flakes were balls of 2-3 E; in
+/// larger balls a quadric within E of both faces of a crease bends little.
+constexpr double crease_max_radius = 3;
+
+/// The fewest points of a face of `attempt_small_pair`.
+constexpr std::size_t small_pair_min_face = 4;
+
 /// A record being built: the world ball and the local fit (kept for the statistics).
 struct Record {
     Ball ball;
@@ -143,6 +155,27 @@ void two_means(const std::vector<Vec3d>& n, const std::vector<std::uint32_t>& id
         m0 = normalize(s0);
         m1 = normalize(s1);
     }
+}
+
+/// Whether a fit rounds a crease (BuildOptions::crease_normal_degrees): its gradient at one of
+/// its points is more than crease_normal_degrees from the point's normal, and the ball's normals
+/// split (2-means) into two parts more than sharp_angle apart, the smaller of at least 3 points,
+/// each part's normals within crease_face_spread_degrees of its mean.
+bool rounds_crease(const Context& cx, const std::vector<std::uint32_t>& idx, double r, const LocalFit& f) {
+    if (r > crease_max_radius * cx.threshold) return false;
+    if (f.min_normal_cos >= std::cos(cx.opt.crease_normal_degrees * std::numbers::pi / 180)) return false;
+    std::vector<unsigned char> label;
+    Vec3d s0{}, s1{};
+    two_means(cx.pts.normals, idx, label, s0, s1);
+    std::size_t n1 = 0;
+    for (const unsigned char l : label) n1 += l;
+    if (!(dot(s0, s1) < std::cos(cx.opt.sharp_angle_degrees * std::numbers::pi / 180) && std::min(n1, idx.size() - n1) >= 3)) return false;
+    // Two faces, each nearly flat: every normal within crease_face_spread_degrees of its part's
+    // mean (a coarse mesh's curved region, its faces' normals spread, is no crease).
+    const double cos_tight = std::cos(crease_face_spread_degrees * std::numbers::pi / 180);
+    for (std::size_t k = 0; k < idx.size(); ++k)
+        if (dot(cx.pts.normals[idx[k]], label[k] ? s1 : s0) < cos_tight) return false;
+    return true;
 }
 
 /// The boundary part of the support check (BuildOptions::support_max_gap_degrees): the input
@@ -284,7 +317,7 @@ bool attempt_quadrics(const Context& cx, const Vec3d& c, double r, const std::ve
     out.radius = r;
     ++out.fits;
     const LocalFit single = fit_ball(P, N, idx, c, r, cx.opt.fit);
-    bool single_ok = single.solved && single.oriented && single.max_distance <= cx.threshold;
+    bool single_ok = single.solved && single.oriented && single.max_distance <= cx.threshold && !rounds_crease(cx, idx, r, single);
     double t = 1;
     if (single_ok && cx.opt.support_check) {
         t = support_fraction(cx, single.local, c, r, {}, idx.size(), cx.opt.min_support_fraction);
@@ -502,11 +535,94 @@ bool attempt(const Context& cx, const Vec3d& c, double r, const std::vector<std:
     planar.regularization = planar_regularization;
     ++out.fits;
     const LocalFit plane = fit_ball(cx.pts.positions, cx.pts.normals, idx, c, r, planar);
-    if (!(plane.solved && plane.oriented && plane.max_distance <= cx.threshold)) return false;
+    if (!(plane.solved && plane.oriented && plane.max_distance <= cx.threshold) || rounds_crease(cx, idx, r, plane)) return false;
     const double t = support_fraction(cx, plane.local, c, r, {}, idx.size(), cx.opt.min_support_fraction);
     if (t < cx.opt.min_support_fraction) return false;
     out.records.assign(1, make_record(plane, c, r, kept_fraction(t)));
     out.side.assign(idx.size(), 0);
+    return true;
+}
+
+/// The plane of a few points (too few for `fit_ball`): through their centroid, normal to their
+/// mean normal, in local coordinates of the ball (c, r) (f(u) = m . u + m . (c - centroid) / r);
+/// its distances (to the plane) and orientation as `fit_ball` measures them.
+LocalFit small_plane(const Context& cx, const std::vector<std::uint32_t>& pts, const Vec3d& c, double r) {
+    LocalFit f;
+    Vec3d mean = vec3(0.0, 0.0, 0.0), centroid = mean;
+    for (const std::uint32_t i : pts) {
+        mean = mean + cx.pts.normals[i];
+        centroid = centroid + cx.pts.positions[i];
+    }
+    if (pts.empty() || !(length(mean) > 0)) return f;
+    const Vec3d m = normalize(mean);
+    centroid = centroid * (1.0 / double(pts.size()));
+    f.solved = true;
+    f.oriented = true;
+    f.min_normal_cos = 1;
+    for (const std::uint32_t i : pts) {
+        f.max_distance = std::max(f.max_distance, std::fabs(dot(m, cx.pts.positions[i] - centroid)));
+        f.oriented = f.oriented && dot(m, cx.pts.normals[i]) > 0;
+        f.min_normal_cos = std::min(f.min_normal_cos, dot(m, cx.pts.normals[i]));
+    }
+    Coefficients10<double> k{};
+    k.k000 = dot(m, c - centroid) / r;
+    k.k100 = m[0];
+    k.k010 = m[1];
+    k.k001 = m[2];
+    f.local = quadric_from_coefficients(k);
+    return f;
+}
+
+/// The sharp pair of a ball too small for `attempt_pair` (the min_points ball of a seed on a
+/// crease, whose two faces hold a few points each; build.hpp, step 5): two planes (`small_plane`,
+/// or the fit with its quadratic coefficients held near 0 where a face has enough points for it),
+/// each within E of its points and its normal within crease_normal_degrees of theirs, the plane
+/// between them (`separating_plane`) putting no point on the wrong side.
+bool attempt_small_pair(const Context& cx, const Vec3d& c, double r, const std::vector<std::uint32_t>& idx, SeedResult& out) {
+    const auto& P = cx.pts.positions;
+    const auto& N = cx.pts.normals;
+    std::vector<unsigned char> label;
+    Vec3d m0{}, m1{};
+    two_means(N, idx, label, m0, m1);
+    const double cos_max = std::cos(cx.opt.sharp_angle_degrees * std::numbers::pi / 180);
+    if (!(dot(m0, m1) < cos_max)) return false;
+    std::vector<std::uint32_t> side[2];
+    for (std::size_t k = 0; k < idx.size(); ++k) side[label[k]].push_back(idx[k]);
+    LocalFit f[2];
+    for (int i = 0; i < 2; ++i) {
+        if (side[i].size() < small_pair_min_face || splits_again(N, side[i], cos_max, corner_min_split)) return false;
+        if (side[i].size() >= min_fit_points) {
+            FitOptions planar = cx.opt.fit;
+            planar.regularization = planar_regularization;
+            f[i] = fit_ball(P, N, side[i], c, r, planar);
+        } else {
+            f[i] = small_plane(cx, side[i], c, r);
+        }
+        ++out.fits;
+        if (!(f[i].solved && f[i].oriented && f[i].max_distance <= cx.threshold &&
+              f[i].min_normal_cos >= std::cos(cx.opt.crease_normal_degrees * std::numbers::pi / 180)))
+            return false;
+    }
+    std::size_t err = 0;
+    const Vec4d plane0 = separating_plane(P, side[0], side[1], m0, m1, c, r, err);
+    if (err > 0) return false;
+    const Vec4d plane1 = -plane0;
+    double t0 = 1, t1 = 1;
+    if (cx.opt.support_check) {
+        t0 = support_fraction(cx, f[0].local, c, r, std::span<const Vec4d>(&plane0, 1), idx.size(), cx.opt.min_support_fraction);
+        if (t0 < cx.opt.min_support_fraction) return false;
+        t1 = support_fraction(cx, f[1].local, c, r, std::span<const Vec4d>(&plane1, 1), idx.size(), cx.opt.min_support_fraction);
+        if (t1 < cx.opt.min_support_fraction) return false;
+    }
+    out.records.clear();
+    out.records.push_back(make_record(f[0], c, r, kept_fraction(t0)));
+    out.records.push_back(make_record(f[1], c, r, kept_fraction(t1)));
+    out.records[0].ball.has_plane = out.records[1].ball.has_plane = true;
+    out.records[0].ball.plane = plane0;
+    out.records[1].ball.plane = plane1;
+    out.points = idx;
+    out.side = label;
+    out.radius = r;
     return true;
 }
 
@@ -561,6 +677,10 @@ SeedResult grow_ball(const Context& cx, std::uint32_t seed) {
             if (run(next)) { best = cur; lo = next; break; }
             hi = next;
             if (next == r_min) first = cur;
+        }
+        if (lo == 0 && cx.opt.sharp_features && attempt_small_pair(cx, c, first.radius, first.points, first)) {
+            first.fits += fits;
+            return first;
         }
         if (lo == 0) {
             // Even the smallest ball is rejected: keep its single quadric (forced) where the

@@ -112,13 +112,17 @@ LocalFit fit_ball(const std::vector<Vec3d>& positions, const std::vector<Vec3d>&
     out.solved = true;
     out.local = q;
     out.oriented = true;
+    out.min_normal_cos = 1;
     double sum2 = 0;
     for (const std::uint32_t i : idx) {
         const Vec3d u = (positions[i] - c) * inv_r;
         const double d = gradient_line_distance(q, u) * r;
         out.max_distance = std::max(out.max_distance, d);
         sum2 += d * d;
-        if (!(dot(gradient(q, u), normals[i]) > 0)) out.oriented = false;
+        const Vec3d g = gradient(q, u);
+        if (!(dot(g, normals[i]) > 0)) out.oriented = false;
+        const double gl = length(g);
+        out.min_normal_cos = std::min(out.min_normal_cos, gl > 0 ? dot(g, normals[i]) / gl : -1.0);
     }
     out.rms_distance = std::sqrt(sum2 / w);
     return out;

@@ -107,7 +107,8 @@ struct BoxModel {
     double seconds = 0;
 };
 
-/// `which` 0: the cube, 1: the thin box; `corners` false: built without corner triples.
+/// `which` 0: the cube, 1: the thin box; `corners` false: built as before corner triples and the
+/// crease test (BuildOptions::corners off, crease_normal_degrees 180).
 const BoxModel& box_model(int which, bool corners = true) {
     static const auto make = [](const char* name, const Vec3d& H, double h, bool with_corners) {
         BoxModel b;
@@ -118,13 +119,14 @@ const BoxModel& box_model(int which, bool corners = true) {
         o.error = 3e-3;
         o.threads = 0;
         o.corners = with_corners;
+        if (!with_corners) o.crease_normal_degrees = 180;  // the builder before corner triples
         const auto t0 = std::chrono::steady_clock::now();
         b.result = build(b.points, o);
         b.seconds = seconds_since(t0);
         return b;
     };
     if (which == 0 && !corners) {
-        static const BoxModel cube = make("cube [-1, 1]^3 without corner triples", vec3(1.0, 1.0, 1.0), 0.023, false);
+        static const BoxModel cube = make("cube [-1, 1]^3 without corner triples and the crease test", vec3(1.0, 1.0, 1.0), 0.023, false);
         return cube;
     }
     if (which == 0) {
@@ -355,8 +357,8 @@ TEST_CASE("few fins at a box's edges and corners: every record's zero set lies n
 TEST_CASE("boxes' corner triples rendered (CPU reference): blended normals and hits match the exact box away from its edges and near its corners, coverage too") {
     const int w = 200, h = 150;
     double render_seconds = 0;
-    // The cube, the thin box, and the cube built without corner triples (which must fail the
-    // corner measures: the test is not vacuous).
+    // The cube, the thin box, and the cube built as before corner triples and the crease test
+    // (which must fail the corner measures: the test is not vacuous).
     for (int k = 0; k < 3; ++k) {
         const bool corners = k < 2;
         const BoxModel& m = box_model(k % 2 == 1 ? 1 : 0, corners);

@@ -45,7 +45,14 @@
 //     a pair, each record keeping its own side of its two. Accepted when all three fits are, at
 //     most sharp_max_misclassified of the points lie outside their cluster's wedge, and each
 //     record passes the support check with both planes over its whole ball (none trimmed).
-//  5. When even the min_points ball is rejected it is kept anyway ("forced"; counted): its
+//     Creases (crease_normal_degrees): in a ball of radius at most 3 E whose normals split into two
+//     flat parts (every normal within 5 degrees of its part's mean) more than sharp_angle apart, a
+//     single quadric or plane whose gradient strays more than crease_normal_degrees from a point's
+//     normal is rejected (it rounds the crease).
+//  5. When even the min_points ball is rejected: a pair of planes where its normals split into two
+//     faces of at least 4 points each (each face's plane through its centroid along its mean normal,
+//     or its planar fit, within E and crease_normal_degrees of its normals; the plane between them
+//     misclassifying none; the support check). Else it is kept anyway ("forced"; counted): its
 //     quadric where the support check accepts it, else the seed's tangent plane, drawn as far as
 //     the support check accepts it (at least a quarter of the ball).
 //  6. The points within cover_fraction * (drawn radius) of the centre are marked covered by that record
@@ -104,6 +111,14 @@ struct BuildOptions {
     /// The support check samples the zero set on lines about 4/3 point spacings apart, at least 13
     /// and at most this many per side of the ball's square ([13, 201]).
     int support_max_lines = 51;
+    /// In a small ball across a crease (radius at most 3 E, its normals split into two flat parts
+    /// more than sharp_angle apart),
+    /// a single quadric or the plane fallback is accepted only where its gradient at each point is
+    /// within this angle of the point's normal: in a small ball a quadric rounding the crease, or a
+    /// plane tilted between its faces, is within E of the points but would shade them with a
+    /// normal between the faces' (a flake). Such a ball ends as a pair of planes (step 5) or a
+    /// smaller ball. 180: off.
+    double crease_normal_degrees = 30;
     double sharp_angle_degrees = 60;
     double sharp_min_fraction = 0.1;
     double sharp_max_misclassified = 0.02;  ///< fraction of the ball's points the plane may put on the wrong side

@@ -47,6 +47,7 @@ struct LocalFit {
     double max_distance = 0;       ///< over the fitted points, in world units (r times local)
     double rms_distance = 0;       ///< world units
     bool oriented = false;         ///< grad f . n_i > 0 at every fitted point
+    double min_normal_cos = -1;    ///< the smallest cosine of the angle between grad f and n_i over the fitted points
 };
 
 /// Fits the points `idx` (indices into `positions` / `normals`, unit normals) in the ball
