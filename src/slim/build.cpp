@@ -375,6 +375,41 @@ Vec4d separating_plane(const std::vector<Vec3d>& P, const std::vector<std::uint3
     return vec4(m * s, -s * (dot(m, c) + t));
 }
 
+/// 2-means of the normals of `idx` (labels, unit means) and the points of each side; false when
+/// the means are not more than the sharp angle apart (cosine not below cos_max).
+bool sharp_split(const std::vector<Vec3d>& N, const std::vector<std::uint32_t>& idx, double cos_max, std::vector<unsigned char>& label, Vec3d& m0,
+                 Vec3d& m1, std::vector<std::uint32_t> (&side)[2]) {
+    two_means(N, idx, label, m0, m1);
+    if (!(dot(m0, m1) < cos_max)) return false;
+    for (std::size_t k = 0; k < idx.size(); ++k) side[label[k]].push_back(idx[k]);
+    return true;
+}
+
+/// The two records of a sharp pair of the ball (c, r) with the points `idx`: the fits f0 and f1
+/// clipped by plane0 and its opposite, each drawn as far as the support check accepts it (false,
+/// `out` unchanged, below min_support_fraction).
+bool commit_pair(const Context& cx, const Vec3d& c, double r, const std::vector<std::uint32_t>& idx, const LocalFit& f0, const LocalFit& f1,
+                 const Vec4d& plane0, const std::vector<unsigned char>& label, SeedResult& out) {
+    const Vec4d plane1 = -plane0;
+    double t0 = 1, t1 = 1;
+    if (cx.opt.support_check) {
+        t0 = support_fraction(cx, f0.local, c, r, std::span<const Vec4d>(&plane0, 1), idx.size(), cx.opt.min_support_fraction);
+        if (t0 < cx.opt.min_support_fraction) return false;
+        t1 = support_fraction(cx, f1.local, c, r, std::span<const Vec4d>(&plane1, 1), idx.size(), cx.opt.min_support_fraction);
+        if (t1 < cx.opt.min_support_fraction) return false;
+    }
+    out.records.clear();
+    out.records.push_back(make_record(f0, c, r, kept_fraction(t0)));
+    out.records.push_back(make_record(f1, c, r, kept_fraction(t1)));
+    out.records[0].ball.has_plane = out.records[1].ball.has_plane = true;
+    out.records[0].ball.plane = plane0;
+    out.records[1].ball.plane = plane1;
+    out.points = idx;
+    out.side = label;
+    out.radius = r;
+    return true;
+}
+
 /// The sharp pair of the ball (c, r) (build.hpp, step 4). On success `out` holds the two records
 /// and the points' sides; otherwise `out` is unchanged.
 bool attempt_pair(const Context& cx, const Vec3d& c, double r, const std::vector<std::uint32_t>& idx, SeedResult& out) {
@@ -383,11 +418,9 @@ bool attempt_pair(const Context& cx, const Vec3d& c, double r, const std::vector
     // Split the normals; a pair needs two distinct, large enough clusters.
     std::vector<unsigned char> label;
     Vec3d m0{}, m1{};
-    two_means(N, idx, label, m0, m1);
-    const double cos_max = std::cos(cx.opt.sharp_angle_degrees * std::numbers::pi / 180);
-    if (!(dot(m0, m1) < cos_max)) return false;
     std::vector<std::uint32_t> side[2];
-    for (std::size_t k = 0; k < idx.size(); ++k) side[label[k]].push_back(idx[k]);
+    const double cos_max = std::cos(cx.opt.sharp_angle_degrees * std::numbers::pi / 180);
+    if (!sharp_split(N, idx, cos_max, label, m0, m1, side)) return false;
     const std::size_t need = std::max(cx.opt.min_points, std::size_t(std::ceil(cx.opt.sharp_min_fraction * double(idx.size()))));
     if (side[0].size() < need || side[1].size() < need) return false;
     // Neither side may split again (a corner: three faces in two clusters, one of them two faces
@@ -404,22 +437,7 @@ bool attempt_pair(const Context& cx, const Vec3d& c, double r, const std::vector
     std::size_t best_err = 0;
     const Vec4d plane0 = separating_plane(P, side[0], side[1], m0, m1, c, r, best_err);
     if (double(best_err) > cx.opt.sharp_max_misclassified * double(idx.size())) return false;
-    const Vec4d plane1 = -plane0;
-    double t0 = 1, t1 = 1;
-    if (cx.opt.support_check) {
-        t0 = support_fraction(cx, f0.local, c, r, std::span<const Vec4d>(&plane0, 1), idx.size(), cx.opt.min_support_fraction);
-        if (t0 < cx.opt.min_support_fraction) return false;
-        t1 = support_fraction(cx, f1.local, c, r, std::span<const Vec4d>(&plane1, 1), idx.size(), cx.opt.min_support_fraction);
-        if (t1 < cx.opt.min_support_fraction) return false;
-    }
-    out.records.clear();
-    out.records.push_back(make_record(f0, c, r, kept_fraction(t0)));
-    out.records.push_back(make_record(f1, c, r, kept_fraction(t1)));
-    out.records[0].ball.has_plane = out.records[1].ball.has_plane = true;
-    out.records[0].ball.plane = plane0;
-    out.records[1].ball.plane = -plane0;
-    out.side = label;
-    return true;
+    return commit_pair(cx, c, r, idx, f0, f1, plane0, label, out);
 }
 
 /// 3-means of the normals of `idx`: labels 0/1/2 and the unit cluster means. Seeds: the normal
@@ -583,11 +601,9 @@ bool attempt_small_pair(const Context& cx, const Vec3d& c, double r, const std::
     const auto& N = cx.pts.normals;
     std::vector<unsigned char> label;
     Vec3d m0{}, m1{};
-    two_means(N, idx, label, m0, m1);
-    const double cos_max = std::cos(cx.opt.sharp_angle_degrees * std::numbers::pi / 180);
-    if (!(dot(m0, m1) < cos_max)) return false;
     std::vector<std::uint32_t> side[2];
-    for (std::size_t k = 0; k < idx.size(); ++k) side[label[k]].push_back(idx[k]);
+    const double cos_max = std::cos(cx.opt.sharp_angle_degrees * std::numbers::pi / 180);
+    if (!sharp_split(N, idx, cos_max, label, m0, m1, side)) return false;
     LocalFit f[2];
     for (int i = 0; i < 2; ++i) {
         if (side[i].size() < small_pair_min_face || splits_again(N, side[i], cos_max, corner_min_split)) return false;
@@ -606,24 +622,7 @@ bool attempt_small_pair(const Context& cx, const Vec3d& c, double r, const std::
     std::size_t err = 0;
     const Vec4d plane0 = separating_plane(P, side[0], side[1], m0, m1, c, r, err);
     if (err > 0) return false;
-    const Vec4d plane1 = -plane0;
-    double t0 = 1, t1 = 1;
-    if (cx.opt.support_check) {
-        t0 = support_fraction(cx, f[0].local, c, r, std::span<const Vec4d>(&plane0, 1), idx.size(), cx.opt.min_support_fraction);
-        if (t0 < cx.opt.min_support_fraction) return false;
-        t1 = support_fraction(cx, f[1].local, c, r, std::span<const Vec4d>(&plane1, 1), idx.size(), cx.opt.min_support_fraction);
-        if (t1 < cx.opt.min_support_fraction) return false;
-    }
-    out.records.clear();
-    out.records.push_back(make_record(f[0], c, r, kept_fraction(t0)));
-    out.records.push_back(make_record(f[1], c, r, kept_fraction(t1)));
-    out.records[0].ball.has_plane = out.records[1].ball.has_plane = true;
-    out.records[0].ball.plane = plane0;
-    out.records[1].ball.plane = plane1;
-    out.points = idx;
-    out.side = label;
-    out.radius = r;
-    return true;
+    return commit_pair(cx, c, r, idx, f[0], f[1], plane0, label, out);
 }
 
 /// The ball of one seed (see build.hpp, step 3).
