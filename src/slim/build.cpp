@@ -375,6 +375,84 @@ Vec4d separating_plane(const std::vector<Vec3d>& P, const std::vector<std::uint3
     return vec4(m * s, -s * (dot(m, c) + t));
 }
 
+/// The normal of the face a cluster `sd` of a ball's normals belongs to, from its unit mean m: the
+/// mean of its normals within the sharp angle of m (cosine at least cos_max), twice. A few points of
+/// another face in the cluster (where the ball reaches a third face, too few points to be a cluster
+/// of their own) tilt the plain mean, and with it the plane between the clusters: on a box, a face
+/// continued past its edge by up to 5 E (tests/slim/corner.cpp).
+Vec3d face_normal(const std::vector<Vec3d>& N, const std::vector<std::uint32_t>& sd, Vec3d m, double cos_max) {
+    for (int round = 0; round < 2; ++round) {
+        Vec3d s = vec3(0.0, 0.0, 0.0);
+        for (const std::uint32_t i : sd)
+            if (dot(N[i], m) >= cos_max) s = s + N[i];
+        if (!(length(s) > 0)) break;
+        m = normalize(s);
+    }
+    return m;
+}
+
+/// The points of a on the negative side of `plane` and of b on its positive side.
+std::size_t misclassified(const std::vector<Vec3d>& P, const std::vector<std::uint32_t>& a, const std::vector<std::uint32_t>& b, const Vec4d& plane) {
+    std::size_t n = 0;
+    for (const std::uint32_t i : a) n += dot(xyz(plane), P[i]) + plane[3] < 0;
+    for (const std::uint32_t i : b) n += dot(xyz(plane), P[i]) + plane[3] > 0;
+    return n;
+}
+
+/// The clip plane `plane` between the faces of fits fa and fb (unit face normals na, nb) in the
+/// ball (c, r), moved along its normal to pass through the fits' crossing in the ball (the edge
+/// they draw): `separating_plane` puts it midway between the two clusters' nearest points, which
+/// may lie up to a point spacing from the edge, and where the plane misses the crossing one face
+/// ends short of it and the other runs past it (a crack along a convex edge, a ledge along a
+/// concave one, the faces' normals blended across it). The crossing is sampled at 9 points along
+/// the edge direction na x nb (Newton's method on fa = fb = 0 in the plane across it); its offset is
+/// the samples' mean. Unchanged when the faces are within 30 degrees of parallel or opposite (no
+/// edge: a thin shell's two sides) or fewer than 3 samples converge inside the ball.
+Vec4d plane_through_crossing(const Vec4d& plane, const LocalFit& fa, const LocalFit& fb, const Vec3d& na, const Vec3d& nb, const Vec3d& c, double r) {
+    const Vec3d e = cross(na, nb);
+    if (!(length(e) >= 0.5)) return plane;
+    const Vec3d d = normalize(e);
+    const Vec3d n = xyz(plane);  // unit
+    // Two directions across the edge, and the plane's point nearest the centre (ball coordinates).
+    const Vec3d e1 = normalize(cross(d, n)), e2 = cross(d, e1);
+    const Vec3d base = n * (-(dot(n, c) + plane[3]) / r);
+    double sum = 0;
+    int count = 0;
+    for (int k = -4; k <= 4; ++k) {
+        Vec3d u = base + d * (0.2 * k);
+        bool converged = false;
+        for (int it = 0; it < 12 && !converged; ++it) {
+            const double f0 = evaluate(fa.local, u), f1 = evaluate(fb.local, u);
+            const Vec3d g0 = gradient(fa.local, u), g1 = gradient(fb.local, u);
+            const double a = dot(g0, e1), b = dot(g0, e2), cc = dot(g1, e1), dd = dot(g1, e2);
+            const double det = a * dd - b * cc;
+            if (!(std::fabs(det) > 1e-12 * length(g0) * length(g1))) break;
+            const double s = (-f0 * dd + b * f1) / det, t = (-a * f1 + cc * f0) / det;
+            u = u + e1 * s + e2 * t;
+            converged = std::fabs(s) + std::fabs(t) < 1e-12;
+        }
+        if (!converged || !(dot(u, u) < 0.9 * 0.9) || length(u - base - d * (0.2 * k)) > 0.5) continue;
+        sum += dot(n, c + u * r);
+        ++count;
+    }
+    if (count < 3) return plane;
+    return vec4(n, -sum / count);
+}
+
+/// The clip plane between clusters a and b of a ball's points (positive on a's side; unit face
+/// normals na, nb; their fits fa, fb): `separating_plane`, then moved through the fits' crossing
+/// (`plane_through_crossing`) where that puts no more points on the wrong side; `misclassified`
+/// the points it does.
+Vec4d edge_plane(const std::vector<Vec3d>& P, const std::vector<std::uint32_t>& a, const std::vector<std::uint32_t>& b, const Vec3d& na, const Vec3d& nb,
+                 const LocalFit& fa, const LocalFit& fb, const Vec3d& c, double r, std::size_t& misclassified_points) {
+    const Vec4d plane = separating_plane(P, a, b, na, nb, c, r, misclassified_points);
+    const Vec4d moved = plane_through_crossing(plane, fa, fb, na, nb, c, r);
+    const std::size_t err = misclassified(P, a, b, moved);
+    if (err > misclassified_points) return plane;
+    misclassified_points = err;
+    return moved;
+}
+
 /// 2-means of the normals of `idx` (labels, unit means) and the points of each side; false when
 /// the means are not more than the sharp angle apart (cosine not below cos_max).
 bool sharp_split(const std::vector<Vec3d>& N, const std::vector<std::uint32_t>& idx, double cos_max, std::vector<unsigned char>& label, Vec3d& m0,
@@ -435,7 +513,9 @@ bool attempt_pair(const Context& cx, const Vec3d& c, double r, const std::vector
     // The clip plane between the clusters (`separating_plane`); a split the plane cannot make
     // (e.g. a corner's three faces in two clusters) is no pair.
     std::size_t best_err = 0;
-    const Vec4d plane0 = separating_plane(P, side[0], side[1], m0, m1, c, r, best_err);
+    m0 = face_normal(N, side[0], m0, cos_max);
+    m1 = face_normal(N, side[1], m1, cos_max);
+    const Vec4d plane0 = edge_plane(P, side[0], side[1], m0, m1, f0, f1, c, r, best_err);
     if (double(best_err) > cx.opt.sharp_max_misclassified * double(idx.size())) return false;
     return commit_pair(cx, c, r, idx, f0, f1, plane0, label, out);
 }
@@ -473,6 +553,99 @@ void three_means(const std::vector<Vec3d>& n, const std::vector<std::uint32_t>& 
     }
 }
 
+/// The face of a saddle corner whose part of the surface is not convex, from the three faces'
+/// clusters `side` and their unit mean normals `m`: each face approximated by the plane through its
+/// points' centroid along its mean normal, the edge of faces i and j is convex where the points of
+/// each lie behind the other's plane on average, concave where in front. A saddle has one edge
+/// unlike the other two; the face opposite it (on neither of its faces) is the one drawn where it is
+/// inside (or outside) EITHER of the other two: a wedge of more than 180 degrees about the corner,
+/// which no pair of clip planes keeps. -1 when the corner is no saddle (all three edges alike, or an
+/// edge whose two faces disagree).
+int saddle_face(const std::vector<Vec3d>& P, const std::vector<std::uint32_t> (&side)[3], const Vec3d (&m)[3]) {
+    Vec3d centroid[3];
+    for (int i = 0; i < 3; ++i) {
+        Vec3d s = vec3(0.0, 0.0, 0.0);
+        for (const std::uint32_t p : side[i]) s = s + P[p];
+        centroid[i] = s * (1.0 / double(side[i].size()));
+    }
+    const auto behind = [&](int i, int j) {  // mean signed distance of face j's points to face i's plane
+        double s = 0;
+        for (const std::uint32_t p : side[j]) s += dot(m[i], P[p] - centroid[i]);
+        return s / double(side[j].size());
+    };
+    int convex[3];  // edge k: faces (k + 1) % 3 and (k + 2) % 3
+    for (int k = 0; k < 3; ++k) {
+        const int i = (k + 1) % 3, j = (k + 2) % 3;
+        const double a = behind(i, j), b = behind(j, i);
+        if (a < 0 && b < 0) convex[k] = 1;
+        else if (a > 0 && b > 0) convex[k] = 0;
+        else return -1;
+    }
+    for (int k = 0; k < 3; ++k)
+        if (convex[k] != convex[(k + 1) % 3] && convex[k] != convex[(k + 2) % 3]) return k;
+    return -1;
+}
+
+/// Whether every record of `recs` passes the support check with its planes over its whole ball.
+bool corner_supported(const Context& cx, const Vec3d& c, double r, std::size_t m, std::span<const Record> recs) {
+    if (!cx.opt.support_check) return true;
+    for (const Record& rec : recs) {
+        const Vec4d planes[2] = {rec.ball.plane, rec.ball.plane2};
+        if (support_fraction(cx, rec.local, c, r, std::span<const Vec4d>(planes, 2), m, cx.opt.min_support_fraction) < 1.0) return false;
+    }
+    return true;
+}
+
+/// The record of fit f in the ball (c, r) clipped by planes a and b.
+Record corner_record(const LocalFit& f, const Vec3d& c, double r, const Vec4d& a, const Vec4d& b) {
+    Record rec = make_record(f, c, r);
+    rec.ball.has_plane = rec.ball.has_plane2 = true;
+    rec.ball.plane = a;
+    rec.ball.plane2 = b;
+    return rec;
+}
+
+/// A saddle corner of the ball (c, r) (build.hpp, step 4), whose three faces `side` (unit mean
+/// normals m, fits f, labels `label` 0/1/2 of idx) no three wedges separate: face o (`saddle_face`)
+/// covers more than half the turn about the corner. With j, k the other faces, the plane between
+/// them (p_jk, positive on j's side) also splits o into its part beside j and its part beside k;
+/// the planes p_oj and p_ok between those parts and j and k end o at its edges. FOUR records:
+/// o on (p_oj, p_jk), o on (p_ok, -p_jk), j on (-p_oj, p_jk), k on (-p_ok, -p_jk). (On the saddle
+/// y <= 0 and (x <= 0 or z <= 0), o is y = 0; its two records are its parts x <= 0 and z <= 0
+/// either side of the bisector x = z.) Accepted as the triple is (misclassified points, support).
+bool attempt_saddle(const Context& cx, const Vec3d& c, double r, const std::vector<std::uint32_t>& idx, const std::vector<std::uint32_t> (&side)[3],
+                    const Vec3d (&m)[3], const LocalFit (&f)[3], const std::vector<unsigned char>& label, SeedResult& out) {
+    const auto& P = cx.pts.positions;
+    const int o = saddle_face(P, side, m);
+    if (o < 0) return false;
+    const int j = (o + 1) % 3, k = (o + 2) % 3;
+    std::size_t err = 0;
+    const Vec4d p_jk = edge_plane(P, side[j], side[k], m[j], m[k], f[j], f[k], c, r, err);
+    const auto above = [&](const Vec4d& pl, std::uint32_t p) { return dot(xyz(pl), P[p]) + pl[3] >= 0; };
+    std::vector<std::uint32_t> oj, ok;
+    for (const std::uint32_t p : side[o]) (above(p_jk, p) ? oj : ok).push_back(p);
+    if (oj.size() < small_pair_min_face || ok.size() < small_pair_min_face) return false;
+    const Vec4d p_oj = edge_plane(P, oj, side[j], m[o], m[j], f[o], f[j], c, r, err);
+    const Vec4d p_ok = edge_plane(P, ok, side[k], m[o], m[k], f[o], f[k], c, r, err);
+    const Record recs[4] = {corner_record(f[o], c, r, p_oj, p_jk), corner_record(f[o], c, r, p_ok, -p_jk), corner_record(f[j], c, r, -p_oj, p_jk),
+                            corner_record(f[k], c, r, -p_ok, -p_jk)};
+    // Each point's record, and the points outside it.
+    std::vector<unsigned char> rec_of(idx.size());
+    std::size_t wrong = 0;
+    for (std::size_t q = 0; q < idx.size(); ++q) {
+        const std::uint32_t p = idx[q];
+        const int l = label[q];
+        rec_of[q] = l == o ? (above(p_jk, p) ? 0 : 1) : (l == j ? 2 : 3);
+        const Ball& b = recs[rec_of[q]].ball;
+        wrong += above(b.plane, p) && above(b.plane2, p) ? 0 : 1;
+    }
+    if (double(wrong) > cx.opt.sharp_max_misclassified * double(idx.size())) return false;
+    if (!corner_supported(cx, c, r, idx.size(), recs)) return false;
+    out.records.assign(std::begin(recs), std::end(recs));
+    out.side = std::move(rec_of);
+    return true;
+}
+
 /// The corner of the ball (c, r) (build.hpp, step 4): three faces, each its own record clipped by
 /// the two planes that separate its cluster from the other two. On success `out` holds the three
 /// records and the points' sides; otherwise `out` is unchanged.
@@ -497,6 +670,7 @@ bool attempt_corner(const Context& cx, const Vec3d& c, double r, const std::vect
     // the faces at their edges; a smaller ball is tried instead).
     for (const std::vector<std::uint32_t>& sd : side)
         if (splits_again(N, sd, cos_max, corner_min_split)) return false;
+    for (int i = 0; i < 3; ++i) m[i] = face_normal(N, side[i], m[i], cos_max);
     out.fits += 3;
     LocalFit f[3];
     for (int i = 0; i < 3; ++i) {
@@ -510,7 +684,7 @@ bool attempt_corner(const Context& cx, const Vec3d& c, double r, const std::vect
     for (int i = 0; i < 3; ++i) {
         const int j = (i + 1) % 3;
         std::size_t err = 0;
-        const Vec4d pl = separating_plane(P, side[i], side[j], m[i], m[j], c, r, err);
+        const Vec4d pl = edge_plane(P, side[i], side[j], m[i], m[j], f[i], f[j], c, r, err);
         planes[i][0] = pl;
         planes[j][1] = -pl;
     }
@@ -522,7 +696,7 @@ bool attempt_corner(const Context& cx, const Vec3d& c, double r, const std::vect
             for (int k = 0; k < 2; ++k) in = in && dot(xyz(planes[i][k]), P[p]) + planes[i][k][3] >= 0;
             wrong += in ? 0 : 1;
         }
-    if (double(wrong) > cx.opt.sharp_max_misclassified * double(idx.size())) return false;
+    if (double(wrong) > cx.opt.sharp_max_misclassified * double(idx.size())) return cx.opt.saddle_corners && attempt_saddle(cx, c, r, idx, side, m, f, label, out);
     double t[3] = {1, 1, 1};
     if (cx.opt.support_check)
         for (int i = 0; i < 3; ++i) {
@@ -620,7 +794,7 @@ bool attempt_small_pair(const Context& cx, const Vec3d& c, double r, const std::
             return false;
     }
     std::size_t err = 0;
-    const Vec4d plane0 = separating_plane(P, side[0], side[1], m0, m1, c, r, err);
+    const Vec4d plane0 = edge_plane(P, side[0], side[1], m0, m1, f[0], f[1], c, r, err);
     if (err > 0) return false;
     return commit_pair(cx, c, r, idx, f[0], f[1], plane0, label, out);
 }
@@ -812,7 +986,8 @@ BuildResult build(const OrientedPoints& points, const BuildOptions& options) {
                 locals.push_back(rec.local);
             }
             if (r.records.size() == 2) ++st.sharp_pairs;
-            if (r.records.size() == 3) ++st.corners;
+            if (r.records.size() >= 3) ++st.corners;
+            if (r.records.size() == 4) ++st.saddles;
             if (r.forced) ++st.forced;
             const Vec3d c = points.positions[batch[k]];
             for (std::size_t j = 0; j < r.points.size(); ++j) {

@@ -186,7 +186,7 @@ TEST_CASE("no seams on the bunny: neighbouring pixels of one sheet differ in ble
         for (const std::uint32_t v : t) vn[v] = vn[v] + n;
     }
     const MeshRaycaster rc(pos, tri);
-    std::vector<V3> ref(px.size()), blended(px.size()), x(px.size()), dir(px.size());
+    std::vector<V3> ref(px.size()), blended(px.size()), x(px.size()), dir(px.size()), face(px.size(), vec3(0.0, 0.0, 0.0));
     std::vector<char> ok(px.size(), 0);
     for (std::size_t i = 0; i < px.size(); ++i) {
         const render::SlimPixel& p = px[i];
@@ -197,6 +197,7 @@ TEST_CASE("no seams on the bunny: neighbouring pixels of one sheet differ in ble
         if (!p.covered || !std::isfinite(rc.first_hit(o, dir[i], &t, &u, &v))) continue;
         const auto& T = tri[t];
         ref[i] = normalize(normalize(vn[T[0]]) * (1 - u - v) + normalize(vn[T[1]]) * u + normalize(vn[T[2]]) * v);
+        face[i] = normalize(cross(pos[T[1]] - pos[T[0]], pos[T[2]] - pos[T[0]]));
         for (int k = 0; k < 3; ++k) x[i][k] = double(p.origin[k]) + double(p.lambda) * double(p.dir[k]);
         // Facing the eye at |cos| >= 1/2 (at grazing angles neighbouring pixels are far apart on the surface)
         ok[i] = std::fabs(dot(dir[i], ref[i])) >= 0.5 * length(dir[i]);
@@ -209,14 +210,32 @@ TEST_CASE("no seams on the bunny: neighbouring pixels of one sheet differ in ble
                 if (!ok[std::size_t(yy + dy) * w + std::size_t(xx + dx)]) return false;
         return true;
     };
+    // The mesh's own creases: pixels next to a neighbour whose first-hit triangle's face normal
+    // differs by more than crease_deg (the bunny's flat base meets its sides at about 90 degrees). A
+    // SLIM surface keeps such a crease sharp (a sharp pair), where the interpolated vertex normals
+    // round it over a triangle: a step the reference does not have, but no seam.
+    const double crease_deg = 45;
+    std::vector<char> crease(px.size(), 0);
+    for (int yy = 1; yy + 1 < h; ++yy)
+        for (int xx = 1; xx + 1 < w; ++xx) {
+            const std::size_t i = std::size_t(yy) * w + std::size_t(xx);
+            for (const std::size_t j : {i + 1, i + std::size_t(w)})
+                if (dot(face[i], face[i]) > 0 && dot(face[j], face[j]) > 0 && angle_deg(face[i], face[j]) > crease_deg)
+                    for (const std::size_t k : {i, j}) crease[k] = 1;
+        }
     const double footprint = fr.transform.length(0.8 * b.diagonal() / h);
     std::vector<double> errors, seams, steps, ref_steps;
     long lone_rims = 0;  // a pixel blending almost nothing (sum w < 0.05) next to one of full weight (> 0.5)
+    long crease_pairs = 0;
     for (std::size_t i = 0; i < px.size(); ++i) {
         if (!interior(i)) continue;
         errors.push_back(angle_deg(blended[i], ref[i]));
         for (const std::size_t j : {i + 1, i + std::size_t(w)}) {
             if (!interior(j) || length(x[i] - x[j]) > 3 * footprint) continue;  // one sheet
+            if (crease[i] || crease[j]) {
+                ++crease_pairs;
+                continue;
+            }
             const double a = angle_deg(blended[i], blended[j]), m = angle_deg(ref[i], ref[j]);
             steps.push_back(a);
             ref_steps.push_back(m);
@@ -232,7 +251,8 @@ TEST_CASE("no seams on the bunny: neighbouring pixels of one sheet differ in ble
             << percentile(steps, 0.99) << ", 99.9% " << percentile(steps, 0.999) << ", max " << percentile(steps, 1.0) << " deg (mesh: median "
             << percentile(ref_steps, 0.5) << ", 99% " << percentile(ref_steps, 0.99) << ", max " << percentile(ref_steps, 1.0)
             << " deg); difference (seam): 99% " << percentile(seams, 0.99) << ", 99.9% " << percentile(seams, 0.999) << ", max " << percentile(seams, 1.0)
-            << " deg; " << lone_rims << " pairs of a pixel of sum w < 0.05 next to one > 0.5");
+            << " deg; " << lone_rims << " pairs of a pixel of sum w < 0.05 next to one > 0.5; " << crease_pairs << " pairs on the mesh's creases (over "
+            << crease_deg << " degrees) left out");
     if (std::getenv("QC_SLIM_TEST_PNG")) render::write_png(std::string(std::getenv("QC_SLIM_TEST_PNG")) + "bunny_seams.png", img);
     // The argument: the weights are C1 and vanish on their spheres, so the blend of the same hits is
     // C1 and two neighbours of one sheet differ as the surface does plus the change of the blend's
@@ -243,12 +263,15 @@ TEST_CASE("no seams on the bunny: neighbouring pixels of one sheet differ in ble
     // (slim_depth_window, quadcast/slim_blend.hpp): no pixel of a pair blends a lone rim hit next to
     // a fully weighted neighbour.
     CHECK(lone_rims == 0);
-    // What remains are the creases of the 3k-face mesh itself (the samples are its faces; small
-    // balls fit planes on either side of a crease, which the mesh's interpolated normals smooth
-    // over): 99% of the pairs differ from the mesh's own step by at most twice the blended normal's
-    // median error against the mesh plus two degrees, 99.9% by at most 15 degrees (both partly empirical).
+    // What remains are the shallower creases of the 3k-face mesh itself (the samples are its faces;
+    // small balls fit planes on either side of a crease, which the mesh's interpolated normals
+    // smooth over): 99% of the pairs differ from the mesh's own step by at most twice the blended
+    // normal's median error against the mesh plus two degrees, 99.9% by at most 10 degrees (both
+    // partly empirical; measured 4.2 and 8.3 degrees, the most 18.7). With the pairs on creases
+    // over 45 degrees counted, as before, 99.9% measured 14.2-15.3 degrees, the changes between
+    // builder versions all at the base's crease.
     CHECK(percentile(seams, 0.99) <= 2 * percentile(errors, 0.5) + 2.0);
-    CHECK(percentile(seams, 0.999) <= 15.0);
+    CHECK(percentile(seams, 0.999) <= 10.0);
 }
 
 TEST_CASE("no fins at creases and corners: every record's zero set in its ball lies near the faces of an L-shaped prism") {
@@ -280,25 +303,32 @@ TEST_CASE("no fins at creases and corners: every record's zero set in its ball l
             for (std::size_t k = 1; k + 1 < f.size(); ++k)
                 tri.push_back({to_long(b.mesh.vertices[f[0]]), to_long(b.mesh.vertices[f[k]]), to_long(b.mesh.vertices[f[k + 1]])});
         long double worst = 0;
+        V3L worst_at{};
+        const Ball* worst_ball = nullptr;
         long samples = 0, beyond_2e = 0, beyond_3e = 0;
         for (const Ball& ball : b.slim.model.balls)
             zero_set_samples(ball, 31, [&](const V3L& x) {
                 long double d = std::numeric_limits<long double>::infinity();
                 for (const auto& t : tri) d = std::min(d, std::sqrt(volume::point_triangle_distance2(x, t[0], t[1], t[2])));
-                worst = std::max(worst, d);
+                if (d > worst) worst = d, worst_at = x, worst_ball = &ball;
                 ++samples;
                 beyond_2e += d > 2 * E;
                 beyond_3e += d > 3 * E;
             });
         MESSAGE("l_prism.off, E = 3e-3, " << std::string(v.name) << ": " << b.slim.stats.balls << " balls (" << b.slim.stats.sharp_pairs << " sharp pairs, "
                 << b.slim.stats.forced << " forced); " << samples << " zero-set samples, " << beyond_2e << " farther than 2 E from the faces, "
-                << beyond_3e << " farther than 3 E, the farthest " << double(worst / E) << " E");
+                << beyond_3e << " farther than 3 E, the farthest " << double(worst / E) << " E (at (" << double(worst_at[0]) << ", " << double(worst_at[1])
+                << ", " << double(worst_at[2]) << "), of a record with " << (worst_ball ? int(worst_ball->has_plane) + int(worst_ball->has_plane2) : -1)
+                << " planes, radius " << (worst_ball ? worst_ball->radius / double(E) : 0.0) << " E)");
         CHECK(samples > 100 * long(b.slim.stats.balls));
-        // Measured (with corner triples): 8 samples beyond 2 E, the farthest 2.31 E; without the
-        // boundary test 300 and 2.95 E; without the support check 27883 and 81 E. (Before the
-        // triples: 20 and 2.67 E, 639 and 3.1 E, 92454 and 81 E.)
-        if (v.support && v.max_gap < 360) CHECK(beyond_3e == 0);
-        else CHECK(beyond_2e > 100);  // the measure sees the fins the boundary test removes
+        // Measured with saddle corners and the face normals of the clusters (`face_normal` in
+        // src/slim/build.cpp): 0 samples beyond 2 E, the farthest 0.43 E; without the boundary test
+        // 0 and 1.74 E; without the support check 19850 and 81 E. Before them: 0 and 1.79 E, 292
+        // and 2.95 E (the boundary test removed the fins of pairs whose clusters held a third face's
+        // points, at the notch's saddle corners), 28561 and 81 E; before the corner triples: 20 and
+        // 2.67 E, 639 and 3.1 E, 92454 and 81 E.
+        if (v.support) CHECK(beyond_3e == 0);
+        else CHECK(beyond_2e > 100);  // the measure sees fins
     }
 }
 

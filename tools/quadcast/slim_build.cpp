@@ -17,7 +17,7 @@ void add_slim_build(CLI::App& app) {
         double error = 0;
         slim::BuildOptions build;
         slim::ReadOptions read;
-        bool no_sharp = false, no_corners = false, no_support = false;
+        bool no_sharp = false, no_corners = false, no_saddles = false, no_support = false;
         bool quiet = false;
     };
     auto opt = std::make_shared<Options>();
@@ -30,7 +30,8 @@ void add_slim_build(CLI::App& app) {
     cmd->add_option("--threads", opt->build.threads, "worker threads (0: all; the model is the same for any count)");
     cmd->add_option("--cover", opt->build.cover_fraction, "points within this fraction of a ball's radius are covered by it")->check(CLI::Range(0.05, 1.0));
     cmd->add_flag("--no-sharp", opt->no_sharp, "no sharp-feature pairs or corners (one quadric per ball)");
-    cmd->add_flag("--no-corners", opt->no_corners, "sharp pairs but no corner triples (a corner's faces left to smaller balls)");
+    cmd->add_flag("--no-corners", opt->no_corners, "sharp pairs but no corners (a corner's faces left to smaller balls)");
+    cmd->add_flag("--no-saddles", opt->no_saddles, "corner triples but no saddle corners (four records; a saddle's faces left to smaller balls)");
     cmd->add_flag("--no-support", opt->no_support, "accept fits whose zero set leaves the input points inside the ball (no support check)");
     cmd->add_flag("--quiet", opt->quiet, "no progress on stderr");
     cmd->callback([opt] {
@@ -45,6 +46,7 @@ void add_slim_build(CLI::App& app) {
             opt->build.error = opt->error;
             opt->build.sharp_features = !opt->no_sharp;
             opt->build.corners = !opt->no_corners;
+            opt->build.saddle_corners = !opt->no_saddles;
             opt->build.support_check = !opt->no_support;
             if (!opt->quiet)
                 opt->build.progress = [last = std::chrono::steady_clock::now()](const slim::BuildProgress& p) mutable {
@@ -59,7 +61,8 @@ void add_slim_build(CLI::App& app) {
             const slim::BuildStats& s = r.stats;
             std::printf("input %s: %zu oriented points (read in %.3f s), bounding-box diagonal %.6g\n", opt->input.c_str(), s.points, read_s, s.diagonal);
             std::printf("threshold %.3g of the diagonal = %.6g\n", opt->error, s.threshold);
-            std::printf("balls %zu (sharp pairs %zu, corners %zu, forced %zu over the threshold)\n", s.balls, s.sharp_pairs, s.corners, s.forced);
+            std::printf("balls %zu (sharp pairs %zu, corners %zu of which saddles %zu, forced %zu over the threshold)\n", s.balls, s.sharp_pairs, s.corners,
+                        s.saddles, s.forced);
             std::printf("build time %.3f s (%zu fits, %zu seeds dropped)\n", s.seconds, s.fits, s.dropped_seeds);
             std::printf("fit distance over the input points: rms %.6g (%.3g of the diagonal), max %.6g (%.3g), %zu points over the threshold\n",
                         s.rms_distance, s.rms_distance / s.diagonal, s.max_distance, s.max_distance / s.diagonal, s.over_threshold);

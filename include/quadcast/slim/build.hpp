@@ -31,8 +31,12 @@
 //     the ball becomes TWO records with the same centre and radius, each with a clip plane
 //     (Stoll et al. 2006, fig. 8: the surface is the quadric's part on the plane's positive
 //     side). The planes are one plane with opposite signs: normal m = (n1 - n2) / |n1 - n2|
-//     (n1, n2 the cluster means; it bisects the dihedral angle), offset the 1-D threshold along
-//     m that misclassifies the fewest points of the two clusters. Accepted when both fits are
+//     (n1, n2 the clusters' face normals: the mean of each cluster's normals within sharp_angle
+//     of its mean, twice, so that a third face's few points in a cluster do not tilt it; m
+//     bisects the dihedral angle), offset the 1-D threshold along m that misclassifies the
+//     fewest points of the two clusters, then moved through the two fits' crossing in the ball
+//     (the edge they draw, sampled by Newton's method) where that misclassifies no more points.
+//     Accepted when both fits are
 //     and the plane puts at most sharp_max_misclassified of the points on the wrong side (a
 //     corner's three faces split into two clusters are not separable by one plane). Note that an
 //     edge of two planar faces is often ONE quadric already: the plane pair x y = 0.
@@ -45,6 +49,15 @@
 //     a pair, each record keeping its own side of its two. Accepted when all three fits are, at
 //     most sharp_max_misclassified of the points lie outside their cluster's wedge, and each
 //     record passes the support check with both planes over its whole ball (none trimmed).
+//     Saddle corners (`saddle_corners`): where the three wedges misplace too many points, the
+//     corner may be a saddle: each face taken as the plane through its points' centroid along
+//     their mean normal, an edge is convex where each face's points lie behind the other's plane,
+//     concave where in front; one edge unlike the other two makes the face opposite it cover more
+//     than half the turn about the corner (the top of an L-shaped prism at its notch), which two
+//     clip planes cannot keep. The plane between the other two faces j and k splits it into its
+//     part beside j and its part beside k, each ended at its edge by a plane found as for a pair
+//     from that part's points: the ball becomes FOUR records (the face twice, j, k), accepted as
+//     a triple is.
 //     Creases (crease_normal_degrees): in a ball of radius at most 3 E whose normals split into two
 //     flat parts (every normal within 5 degrees of its part's mean) more than sharp_angle apart, a
 //     single quadric or plane whose gradient strays more than crease_normal_degrees from a point's
@@ -90,6 +103,8 @@ struct BuildOptions {
     bool sharp_features = true;
     /// With sharp_features: corner triples (step 4), else a corner's faces are left to smaller balls.
     bool corners = true;
+    /// With corners: saddle corners (four records, step 4), else a saddle is left to smaller balls.
+    bool saddle_corners = true;
     /// Accept a fit only where its zero set in the ball (on its plane's side) stays within 2 point
     /// spacings of the input points and inside their edges (src/slim/build.cpp `support_fraction`;
     /// step 3 above): a quadric continued past an edge or a second sheet would be drawn by the
@@ -132,7 +147,8 @@ struct BuildStats {
     std::size_t points = 0;
     std::size_t balls = 0;             ///< records (a sharp pair is two)
     std::size_t sharp_pairs = 0;
-    std::size_t corners = 0;           ///< corner triples (three records each)
+    std::size_t corners = 0;           ///< corners (three records each, four at a saddle)
+    std::size_t saddles = 0;           ///< of them saddle corners (four records)
     std::size_t forced = 0;            ///< records kept although their fit exceeds E
     std::size_t fits = 0;              ///< quadric fits computed (dropped seeds included: depends on the threads)
     std::size_t dropped_seeds = 0;     ///< computed in a batch, then covered by an earlier ball (depends on the threads)
