@@ -102,8 +102,8 @@ struct Record {
     Quadric<double> local;
 };
 
-/// What one seed produces: 1 record, or 2 for a sharp pair; `side[i]` = record (0/1) of each
-/// ball point (for the covering); `forced` when the fit exceeded E.
+/// What one seed produces: 1 record, 2 for a sharp pair, 3 for a corner, 4 for a saddle corner;
+/// `side[i]` = the record of each ball point (for the covering); `forced` when the fit exceeded E.
 struct SeedResult {
     std::vector<Record> records;
     std::vector<std::uint32_t> points;   ///< the ball's points
@@ -391,12 +391,31 @@ Vec3d face_normal(const std::vector<Vec3d>& N, const std::vector<std::uint32_t>&
     return m;
 }
 
+/// The plane's value at x (a record keeps the part of its quadric where it is >= 0: `kept`).
+double plane_value(const Vec4d& plane, const Vec3d& x) { return dot(xyz(plane), x) + plane[3]; }
+bool kept(const Vec4d& plane, const Vec3d& x) { return plane_value(plane, x) >= 0; }
+
 /// The points of a on the negative side of `plane` and of b on its positive side.
 std::size_t misclassified(const std::vector<Vec3d>& P, const std::vector<std::uint32_t>& a, const std::vector<std::uint32_t>& b, const Vec4d& plane) {
     std::size_t n = 0;
-    for (const std::uint32_t i : a) n += dot(xyz(plane), P[i]) + plane[3] < 0;
-    for (const std::uint32_t i : b) n += dot(xyz(plane), P[i]) + plane[3] > 0;
+    for (const std::uint32_t i : a) n += plane_value(plane, P[i]) < 0;
+    for (const std::uint32_t i : b) n += plane_value(plane, P[i]) > 0;
     return n;
+}
+
+/// The mean signed distance of the points `pts` to the plane through x0 with unit normal n: the
+/// convexity of an edge (negative where a face's points lie behind the other face's plane on both
+/// sides: convex; positive on both: concave).
+double mean_signed_distance(const std::vector<Vec3d>& P, const std::vector<std::uint32_t>& pts, const Vec3d& n, const Vec3d& x0) {
+    double sum = 0;
+    for (const std::uint32_t i : pts) sum += dot(n, P[i] - x0);
+    return sum / double(pts.size());
+}
+
+Vec3d centroid_of(const std::vector<Vec3d>& P, const std::vector<std::uint32_t>& pts) {
+    Vec3d s = vec3(0.0, 0.0, 0.0);
+    for (const std::uint32_t i : pts) s = s + P[i];
+    return s * (1.0 / double(pts.size()));
 }
 
 /// The clip plane `plane` between the faces of fits fa and fb (unit face normals na, nb) in the
@@ -408,7 +427,8 @@ std::size_t misclassified(const std::vector<Vec3d>& P, const std::vector<std::ui
 /// the edge direction na x nb (Newton's method on fa = fb = 0 in the plane across it); its offset is
 /// the samples' mean. Unchanged when the faces are within 30 degrees of parallel or opposite (no
 /// edge: a thin shell's two sides) or fewer than 3 samples converge inside the ball.
-Vec4d plane_through_crossing(const Vec4d& plane, const LocalFit& fa, const LocalFit& fb, const Vec3d& na, const Vec3d& nb, const Vec3d& c, double r) {
+Vec4d plane_through_crossing(const Vec4d& plane, const LocalFit& fa, const LocalFit& fb, const Vec3d& na, const Vec3d& nb, const Vec3d& c, double r,
+                             std::vector<Vec3d>* crossing = nullptr) {
     const Vec3d e = cross(na, nb);
     if (!(length(e) >= 0.5)) return plane;
     const Vec3d d = normalize(e);
@@ -429,10 +449,11 @@ Vec4d plane_through_crossing(const Vec4d& plane, const LocalFit& fa, const Local
             if (!(std::fabs(det) > 1e-12 * length(g0) * length(g1))) break;
             const double s = (-f0 * dd + b * f1) / det, t = (-a * f1 + cc * f0) / det;
             u = u + e1 * s + e2 * t;
-            converged = std::fabs(s) + std::fabs(t) < 1e-12;
+            converged = std::fabs(s) + std::fabs(t) < 1e-12;  // ball units (r = 1); near tangency it may not: the sample is dropped
         }
         if (!converged || !(dot(u, u) < 0.9 * 0.9) || length(u - base - d * (0.2 * k)) > 0.5) continue;
         sum += dot(n, c + u * r);
+        if (crossing) crossing->push_back(c + u * r);
         ++count;
     }
     if (count < 3) return plane;
@@ -444,11 +465,11 @@ Vec4d plane_through_crossing(const Vec4d& plane, const LocalFit& fa, const Local
 /// (`plane_through_crossing`) where that puts no more points on the wrong side; `misclassified`
 /// the points it does.
 Vec4d edge_plane(const std::vector<Vec3d>& P, const std::vector<std::uint32_t>& a, const std::vector<std::uint32_t>& b, const Vec3d& na, const Vec3d& nb,
-                 const LocalFit& fa, const LocalFit& fb, const Vec3d& c, double r, std::size_t& misclassified_points) {
+                 const LocalFit& fa, const LocalFit& fb, const Vec3d& c, double r, std::size_t& misclassified_points, std::vector<Vec3d>* crossing = nullptr) {
     const Vec4d plane = separating_plane(P, a, b, na, nb, c, r, misclassified_points);
-    const Vec4d moved = plane_through_crossing(plane, fa, fb, na, nb, c, r);
+    const Vec4d moved = plane_through_crossing(plane, fa, fb, na, nb, c, r, crossing);
     const std::size_t err = misclassified(P, a, b, moved);
-    if (err > misclassified_points) return plane;
+    if (err > misclassified_points) return plane;  // (the crossing itself still serves `crossing_planes`, which checks its planes' points)
     misclassified_points = err;
     return moved;
 }
@@ -464,11 +485,11 @@ bool sharp_split(const std::vector<Vec3d>& N, const std::vector<std::uint32_t>& 
 }
 
 /// The two records of a sharp pair of the ball (c, r) with the points `idx`: the fits f0 and f1
-/// clipped by plane0 and its opposite, each drawn as far as the support check accepts it (false,
+/// clipped by plane0 and its opposite (or `own_plane1`), each drawn as far as the support check accepts it (false,
 /// `out` unchanged, below min_support_fraction).
 bool commit_pair(const Context& cx, const Vec3d& c, double r, const std::vector<std::uint32_t>& idx, const LocalFit& f0, const LocalFit& f1,
-                 const Vec4d& plane0, const std::vector<unsigned char>& label, SeedResult& out) {
-    const Vec4d plane1 = -plane0;
+                 const Vec4d& plane0, const std::vector<unsigned char>& label, SeedResult& out, const Vec4d* own_plane1 = nullptr) {
+    const Vec4d plane1 = own_plane1 ? *own_plane1 : -plane0;
     double t0 = 1, t1 = 1;
     if (cx.opt.support_check) {
         t0 = support_fraction(cx, f0.local, c, r, std::span<const Vec4d>(&plane0, 1), idx.size(), cx.opt.min_support_fraction);
@@ -486,6 +507,38 @@ bool commit_pair(const Context& cx, const Vec3d& c, double r, const std::vector<
     out.side = label;
     out.radius = r;
     return true;
+}
+
+/// The clip planes of a sharp pair's two faces (fits f0, f1 in the ball (c, r); their clusters
+/// `side`; samples of the fits' crossing, `plane_through_crossing`): each face ended by the OTHER
+/// face's tangent plane at the crossing's centroid, the face kept behind it at a convex edge and in
+/// front of it at a concave one (each face's points on average behind, or in front of, the other's
+/// tangent plane; false when they disagree). A plane between the faces ends both along a straight
+/// line, a chord of a curved crease: where a curved face meets a flat one (fandisk's top and its
+/// rounded column) the curved face ran up past the flat one between the chord and the crease, a
+/// fin up to the chord's sagitta high, and the flat face past the curved one at the chord's ends.
+/// Ended by the flat face's own plane, the curved face stops exactly at it; the flat face, ended by
+/// the curved face's tangent plane, still runs past the crease by the curved face's sagitta along
+/// it. Between two planar faces both planes are the faces themselves: the edge, as before. False
+/// too where fewer than 3 crossing samples converged or more than sharp_max_misclassified of the
+/// points lie on their plane's wrong side.
+bool crossing_planes(const Context& cx, const std::vector<Vec3d>& P, const std::vector<std::uint32_t> (&side)[2], const LocalFit& f0, const LocalFit& f1,
+                     const Vec3d& c, double r, const std::vector<Vec3d>& crossing, Vec4d (&own)[2]) {
+    if (crossing.size() < 3) return false;
+    Vec3d xm = vec3(0.0, 0.0, 0.0);
+    for (const Vec3d& x : crossing) xm = xm + x;
+    xm = xm * (1.0 / double(crossing.size()));
+    const Vec3d g[2] = {normalize(gradient(f0.local, (xm - c) * (1 / r))), normalize(gradient(f1.local, (xm - c) * (1 / r)))};
+    const double s01 = mean_signed_distance(P, side[1], g[0], xm), s10 = mean_signed_distance(P, side[0], g[1], xm);
+    if (!((s01 < 0 && s10 < 0) || (s01 > 0 && s10 > 0))) return false;
+    const double sign = s01 < 0 ? -1.0 : 1.0;  // convex: behind the other's tangent plane
+    std::size_t wrong = 0;
+    for (int k = 0; k < 2; ++k) {
+        const Vec3d& n = g[1 - k];
+        own[k] = vec4(n * sign, -sign * dot(n, xm));
+        for (const std::uint32_t i : side[k]) wrong += !kept(own[k], P[i]);
+    }
+    return double(wrong) <= cx.opt.sharp_max_misclassified * double(side[0].size() + side[1].size());
 }
 
 /// The sharp pair of the ball (c, r) (build.hpp, step 4). On success `out` holds the two records
@@ -510,13 +563,18 @@ bool attempt_pair(const Context& cx, const Vec3d& c, double r, const std::vector
     const LocalFit f0 = fit_ball(P, N, side[0], c, r, cx.opt.fit), f1 = fit_ball(P, N, side[1], c, r, cx.opt.fit);
     const auto good = [&](const LocalFit& f) { return f.solved && f.oriented && f.max_distance <= cx.threshold; };
     if (!good(f0) || !good(f1)) return false;
-    // The clip plane between the clusters (`separating_plane`); a split the plane cannot make
+    // The clip plane between the clusters (`edge_plane`); a split the plane cannot make
     // (e.g. a corner's three faces in two clusters) is no pair.
     std::size_t best_err = 0;
     m0 = face_normal(N, side[0], m0, cos_max);
     m1 = face_normal(N, side[1], m1, cos_max);
-    const Vec4d plane0 = edge_plane(P, side[0], side[1], m0, m1, f0, f1, c, r, best_err);
+    std::vector<Vec3d> crossing;
+    const Vec4d plane0 = edge_plane(P, side[0], side[1], m0, m1, f0, f1, c, r, best_err, &crossing);
     if (double(best_err) > cx.opt.sharp_max_misclassified * double(idx.size())) return false;
+    // Each face ended by the other's tangent plane where that keeps its points (`crossing_planes`),
+    // else both by plane0.
+    Vec4d own[2];
+    if (cx.opt.pair_tangent_planes && crossing_planes(cx, P, side, f0, f1, c, r, crossing, own) && commit_pair(cx, c, r, idx, f0, f1, own[0], label, out, &own[1])) return true;
     return commit_pair(cx, c, r, idx, f0, f1, plane0, label, out);
 }
 
@@ -554,25 +612,16 @@ void three_means(const std::vector<Vec3d>& n, const std::vector<std::uint32_t>& 
 }
 
 /// The face of a saddle corner whose part of the surface is not convex, from the three faces'
-/// clusters `side` and their unit mean normals `m`: each face approximated by the plane through its
-/// points' centroid along its mean normal, the edge of faces i and j is convex where the points of
+/// clusters `side` and their unit face normals `m` (`face_normal`): each face approximated by the plane
+/// through its points' centroid along its face normal, the edge of faces i and j is convex where the points of
 /// each lie behind the other's plane on average, concave where in front. A saddle has one edge
 /// unlike the other two; the face opposite it (on neither of its faces) is the one drawn where it is
 /// inside (or outside) EITHER of the other two: a wedge of more than 180 degrees about the corner,
 /// which no pair of clip planes keeps. -1 when the corner is no saddle (all three edges alike, or an
 /// edge whose two faces disagree).
 int saddle_face(const std::vector<Vec3d>& P, const std::vector<std::uint32_t> (&side)[3], const Vec3d (&m)[3]) {
-    Vec3d centroid[3];
-    for (int i = 0; i < 3; ++i) {
-        Vec3d s = vec3(0.0, 0.0, 0.0);
-        for (const std::uint32_t p : side[i]) s = s + P[p];
-        centroid[i] = s * (1.0 / double(side[i].size()));
-    }
-    const auto behind = [&](int i, int j) {  // mean signed distance of face j's points to face i's plane
-        double s = 0;
-        for (const std::uint32_t p : side[j]) s += dot(m[i], P[p] - centroid[i]);
-        return s / double(side[j].size());
-    };
+    const Vec3d centroid[3] = {centroid_of(P, side[0]), centroid_of(P, side[1]), centroid_of(P, side[2])};
+    const auto behind = [&](int i, int j) { return mean_signed_distance(P, side[j], m[i], centroid[i]); };
     int convex[3];  // edge k: faces (k + 1) % 3 and (k + 2) % 3
     for (int k = 0; k < 3; ++k) {
         const int i = (k + 1) % 3, j = (k + 2) % 3;
@@ -605,23 +654,21 @@ Record corner_record(const LocalFit& f, const Vec3d& c, double r, const Vec4d& a
     return rec;
 }
 
-/// A saddle corner of the ball (c, r) (build.hpp, step 4), whose three faces `side` (unit mean
-/// normals m, fits f, labels `label` 0/1/2 of idx) no three wedges separate: face o (`saddle_face`)
-/// covers more than half the turn about the corner. With j, k the other faces, the plane between
+/// A saddle corner of the ball (c, r) (build.hpp, step 4) with the three faces `side` (unit face
+/// normals m, fits f, labels `label` 0/1/2 of idx), whose face o (`saddle_face`) covers more than
+/// half the turn about the corner. With j, k the other faces, the plane between
 /// them (p_jk, positive on j's side) also splits o into its part beside j and its part beside k;
 /// the planes p_oj and p_ok between those parts and j and k end o at its edges. FOUR records:
 /// o on (p_oj, p_jk), o on (p_ok, -p_jk), j on (-p_oj, p_jk), k on (-p_ok, -p_jk). (On the saddle
 /// y <= 0 and (x <= 0 or z <= 0), o is y = 0; its two records are its parts x <= 0 and z <= 0
 /// either side of the bisector x = z.) Accepted as the triple is (misclassified points, support).
 bool attempt_saddle(const Context& cx, const Vec3d& c, double r, const std::vector<std::uint32_t>& idx, const std::vector<std::uint32_t> (&side)[3],
-                    const Vec3d (&m)[3], const LocalFit (&f)[3], const std::vector<unsigned char>& label, SeedResult& out) {
+                    const Vec3d (&m)[3], const LocalFit (&f)[3], const std::vector<unsigned char>& label, int o, SeedResult& out) {
     const auto& P = cx.pts.positions;
-    const int o = saddle_face(P, side, m);
-    if (o < 0) return false;
     const int j = (o + 1) % 3, k = (o + 2) % 3;
     std::size_t err = 0;
     const Vec4d p_jk = edge_plane(P, side[j], side[k], m[j], m[k], f[j], f[k], c, r, err);
-    const auto above = [&](const Vec4d& pl, std::uint32_t p) { return dot(xyz(pl), P[p]) + pl[3] >= 0; };
+    const auto above = [&](const Vec4d& pl, std::uint32_t p) { return kept(pl, P[p]); };
     std::vector<std::uint32_t> oj, ok;
     for (const std::uint32_t p : side[o]) (above(p_jk, p) ? oj : ok).push_back(p);
     if (oj.size() < small_pair_min_face || ok.size() < small_pair_min_face) return false;
@@ -647,8 +694,9 @@ bool attempt_saddle(const Context& cx, const Vec3d& c, double r, const std::vect
 }
 
 /// The corner of the ball (c, r) (build.hpp, step 4): three faces, each its own record clipped by
-/// the two planes that separate its cluster from the other two. On success `out` holds the three
-/// records and the points' sides; otherwise `out` is unchanged.
+/// the two planes that separate its cluster from the other two, or at a saddle (`saddle_face`)
+/// four records (`attempt_saddle`). On success `out` holds the records and the points' sides;
+/// otherwise `out` is unchanged.
 bool attempt_corner(const Context& cx, const Vec3d& c, double r, const std::vector<std::uint32_t>& idx, SeedResult& out) {
     const auto& P = cx.pts.positions;
     const auto& N = cx.pts.normals;
@@ -677,6 +725,12 @@ bool attempt_corner(const Context& cx, const Vec3d& c, double r, const std::vect
         f[i] = fit_ball(P, N, side[i], c, r, cx.opt.fit);
         if (!(f[i].solved && f[i].oriented && f[i].max_distance <= cx.threshold)) return false;
     }
+    // A saddle: four records (`attempt_saddle`; its 270-degree face would lose a quadrant to a
+    // wedge, which the misplaced-points test below may not see where few points lie there).
+    if (cx.opt.saddle_corners) {
+        const int o = saddle_face(P, side, m);
+        if (o >= 0) return attempt_saddle(cx, c, r, idx, side, m, f, label, o, out);
+    }
     // One plane per two clusters (positive on the first's side); cluster i keeps the side of its
     // own of both of its planes. So no two records draw the same point; they leave no gap where
     // the three planes meet in a line (as the bisectors of three planar faces do).
@@ -691,26 +745,12 @@ bool attempt_corner(const Context& cx, const Vec3d& c, double r, const std::vect
     // Points outside their own cluster's wedge.
     std::size_t wrong = 0;
     for (int i = 0; i < 3; ++i)
-        for (const std::uint32_t p : side[i]) {
-            bool in = true;
-            for (int k = 0; k < 2; ++k) in = in && dot(xyz(planes[i][k]), P[p]) + planes[i][k][3] >= 0;
-            wrong += in ? 0 : 1;
-        }
-    if (double(wrong) > cx.opt.sharp_max_misclassified * double(idx.size())) return cx.opt.saddle_corners && attempt_saddle(cx, c, r, idx, side, m, f, label, out);
-    double t[3] = {1, 1, 1};
-    if (cx.opt.support_check)
-        for (int i = 0; i < 3; ++i) {
-            t[i] = support_fraction(cx, f[i].local, c, r, std::span<const Vec4d>(planes[i], 2), idx.size(), cx.opt.min_support_fraction);
-            if (t[i] < 1.0) return false;
-        }
-    out.records.clear();
-    for (int i = 0; i < 3; ++i) {
-        out.records.push_back(make_record(f[i], c, r, kept_fraction(t[i])));
-        Ball& b = out.records.back().ball;
-        b.has_plane = b.has_plane2 = true;
-        b.plane = planes[i][0];
-        b.plane2 = planes[i][1];
-    }
+        for (const std::uint32_t p : side[i]) wrong += kept(planes[i][0], P[p]) && kept(planes[i][1], P[p]) ? 0 : 1;
+    if (double(wrong) > cx.opt.sharp_max_misclassified * double(idx.size())) return false;
+    const Record recs[3] = {corner_record(f[0], c, r, planes[0][0], planes[0][1]), corner_record(f[1], c, r, planes[1][0], planes[1][1]),
+                            corner_record(f[2], c, r, planes[2][0], planes[2][1])};
+    if (!corner_supported(cx, c, r, idx.size(), recs)) return false;
+    out.records.assign(std::begin(recs), std::end(recs));
     out.side = label;
     return true;
 }
@@ -769,7 +809,7 @@ LocalFit small_plane(const Context& cx, const std::vector<std::uint32_t>& pts, c
 /// crease, whose two faces hold a few points each; build.hpp, step 5): two planes (`small_plane`,
 /// or the fit with its quadratic coefficients held near 0 where a face has enough points for it),
 /// each within E of its points and its normal within crease_normal_degrees of theirs, the plane
-/// between them (`separating_plane`) putting no point on the wrong side.
+/// between them (`edge_plane`) putting no point on the wrong side.
 bool attempt_small_pair(const Context& cx, const Vec3d& c, double r, const std::vector<std::uint32_t>& idx, SeedResult& out) {
     const auto& P = cx.pts.positions;
     const auto& N = cx.pts.normals;

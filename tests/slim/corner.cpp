@@ -345,12 +345,11 @@ TEST_CASE("no fins at a box's edges and corners: every record's zero set lies wi
                                     << int(worst_ball->has_plane) + int(worst_ball->has_plane2) << " planes, centre (" << worst_ball->center[0] << ", "
                                     << worst_ball->center[1] << ", " << worst_ball->center[2] << "), radius " << worst_ball->radius << ")");
         CHECK(samples > 100 * long(r.model.balls.size()));
-        // Measured: the farthest sample 0.0005 E from the cube, 0.08 E from the thin box. Before the
+        // Measured: the farthest sample 0.001 E from the cube, 0.08 E from the thin box. Before the
         // clusters' face normals (`face_normal` in src/slim/build.cpp) 1 sample lay beyond 3 E on
         // the cube (the farthest 5.1 E) and 4 on the thin box (5.4 E), all of sharp pairs: a pair's
         // ball reaching a third face with too few points to be a cluster of their own got them in
         // one of its clusters, whose mean normal, and so the plane between the clusters, tilted.
-        CHECK(beyond_3e == 0);
         CHECK(worst <= L(E));
     }
 }
@@ -620,6 +619,25 @@ TEST_CASE("saddle corners of an L-shaped solid: four records each, on the exact 
         } else {
             CHECK(st.saddles == 0);
         }
+        // Every record's zero set (as the box test: no fins anywhere on the L).
+        L worst_all = 0;
+        V3L worst_at{};
+        const Ball* worst_ball = nullptr;
+        for (const Ball& b : r.model.balls)
+            zero_set_samples(b, 31, [&](const V3L& x) {
+                const L d = surface_distance(x);
+                if (d > worst_all) worst_all = d, worst_at = x, worst_ball = &b;
+            });
+        REQUIRE(worst_ball);
+        MESSAGE("every record's zero set: the farthest " << double(worst_all / L(E)) << " E from the L (at (" << double(worst_at[0]) << ", " << double(worst_at[1])
+                                                         << ", " << double(worst_at[2]) << "), of a record with " << int(worst_ball->has_plane) + int(worst_ball->has_plane2)
+                                                         << " planes, centre (" << worst_ball->center[0] << ", " << worst_ball->center[1] << ", " << worst_ball->center[2]
+                                                         << "), radius " << worst_ball->radius / E << " E)");
+        // Measured 3.5 E (3.9 E with the builder before saddle corners, face normals and tangent
+        // planes): the x = 0 face continued past y = 2 beside the convex corner (0, 2, 0), a sharp
+        // pair whose ball also holds a few points of the third face. Known, left open; the bound
+        // keeps it from growing.
+        CHECK(worst_all <= 4 * L(E));
 
         // Each saddle corner from outside the notch, whole (45 degrees) and close up (6 degrees:
         // about 0.3 E per pixel).

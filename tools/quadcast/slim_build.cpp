@@ -17,7 +17,7 @@ void add_slim_build(CLI::App& app) {
         double error = 0;
         slim::BuildOptions build;
         slim::ReadOptions read;
-        bool no_sharp = false, no_corners = false, no_saddles = false, no_support = false;
+        bool no_sharp = false, no_corners = false, no_saddles = false, no_tangent_planes = false, no_support = false;
         bool quiet = false;
     };
     auto opt = std::make_shared<Options>();
@@ -32,6 +32,7 @@ void add_slim_build(CLI::App& app) {
     cmd->add_flag("--no-sharp", opt->no_sharp, "no sharp-feature pairs or corners (one quadric per ball)");
     cmd->add_flag("--no-corners", opt->no_corners, "sharp pairs but no corners (a corner's faces left to smaller balls)");
     cmd->add_flag("--no-saddles", opt->no_saddles, "corner triples but no saddle corners (four records; a saddle's faces left to smaller balls)");
+    cmd->add_flag("--no-tangent-planes", opt->no_tangent_planes, "a sharp pair's faces both ended by one plane between them, not each by the other's tangent plane");
     cmd->add_flag("--no-support", opt->no_support, "accept fits whose zero set leaves the input points inside the ball (no support check)");
     cmd->add_flag("--quiet", opt->quiet, "no progress on stderr");
     cmd->callback([opt] {
@@ -47,6 +48,7 @@ void add_slim_build(CLI::App& app) {
             opt->build.sharp_features = !opt->no_sharp;
             opt->build.corners = !opt->no_corners;
             opt->build.saddle_corners = !opt->no_saddles;
+            opt->build.pair_tangent_planes = !opt->no_tangent_planes;
             opt->build.support_check = !opt->no_support;
             if (!opt->quiet)
                 opt->build.progress = [last = std::chrono::steady_clock::now()](const slim::BuildProgress& p) mutable {

@@ -30,12 +30,19 @@
 //     three faces in two clusters), each cluster gets its own quadric, and
 //     the ball becomes TWO records with the same centre and radius, each with a clip plane
 //     (Stoll et al. 2006, fig. 8: the surface is the quadric's part on the plane's positive
-//     side). The planes are one plane with opposite signs: normal m = (n1 - n2) / |n1 - n2|
+//     side). The planes are one plane with opposite signs (but see pair_tangent_planes below):
+//     normal m = (n1 - n2) / |n1 - n2|
 //     (n1, n2 the clusters' face normals: the mean of each cluster's normals within sharp_angle
 //     of its mean, twice, so that a third face's few points in a cluster do not tilt it; m
 //     bisects the dihedral angle), offset the 1-D threshold along m that misclassifies the
 //     fewest points of the two clusters, then moved through the two fits' crossing in the ball
 //     (the edge they draw, sampled by Newton's method) where that misclassifies no more points.
+//     With pair_tangent_planes, each record is then clipped by the OTHER face's tangent plane at
+//     the crossing's centroid instead (kept behind it at a convex edge, in front at a concave
+//     one), where that keeps all but sharp_max_misclassified of the points: a plane between the
+//     faces ends both along a chord of a curved crease, and the curved face ran up past a flat
+//     one (a fin); a flat face's own plane ends the curved face exactly. Where the records with
+//     the tangent planes fail the support check, the one plane is tried.
 //     Accepted when both fits are
 //     and the plane puts at most sharp_max_misclassified of the points on the wrong side (a
 //     corner's three faces split into two clusters are not separable by one plane). Note that an
@@ -49,15 +56,16 @@
 //     a pair, each record keeping its own side of its two. Accepted when all three fits are, at
 //     most sharp_max_misclassified of the points lie outside their cluster's wedge, and each
 //     record passes the support check with both planes over its whole ball (none trimmed).
-//     Saddle corners (`saddle_corners`): where the three wedges misplace too many points, the
-//     corner may be a saddle: each face taken as the plane through its points' centroid along
-//     their mean normal, an edge is convex where each face's points lie behind the other's plane,
+//     Saddle corners (`saddle_corners`): before the wedges, the corner is tested for a saddle:
+//     each face taken as the plane through its points' centroid along its face normal (as for a
+//     pair), an edge is convex where each face's points lie behind the other's plane,
 //     concave where in front; one edge unlike the other two makes the face opposite it cover more
 //     than half the turn about the corner (the top of an L-shaped prism at its notch), which two
 //     clip planes cannot keep. The plane between the other two faces j and k splits it into its
 //     part beside j and its part beside k, each ended at its edge by a plane found as for a pair
-//     from that part's points: the ball becomes FOUR records (the face twice, j, k), accepted as
-//     a triple is.
+//     from that part's points (each part at least 4 points): the ball becomes FOUR records (the
+//     face twice, j, k), accepted as a triple is; a saddle is never drawn as a triple (its
+//     270-degree face would lose a quadrant).
 //     Creases (crease_normal_degrees): in a ball of radius at most 3 E whose normals split into two
 //     flat parts (every normal within 5 degrees of its part's mean) more than sharp_angle apart, a
 //     single quadric or plane whose gradient strays more than crease_normal_degrees from a point's
@@ -105,6 +113,9 @@ struct BuildOptions {
     bool corners = true;
     /// With corners: saddle corners (four records, step 4), else a saddle is left to smaller balls.
     bool saddle_corners = true;
+    /// With sharp_features: each face of a sharp pair ended by the other face's tangent plane at
+    /// their crossing (step 4), else both by one plane between the faces.
+    bool pair_tangent_planes = true;
     /// Accept a fit only where its zero set in the ball (on its plane's side) stays within 2 point
     /// spacings of the input points and inside their edges (src/slim/build.cpp `support_fraction`;
     /// step 3 above): a quadric continued past an edge or a second sheet would be drawn by the
