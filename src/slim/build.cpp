@@ -654,6 +654,17 @@ Record corner_record(const LocalFit& f, const Vec3d& c, double r, const Vec4d& a
     return rec;
 }
 
+/// The points of idx outside their record: point q belongs to recs[rec_of[q]] and lies on the
+/// wrong side of one of its two planes.
+std::size_t misplaced(const std::vector<Vec3d>& P, const std::vector<std::uint32_t>& idx, std::span<const Record> recs, const std::vector<unsigned char>& rec_of) {
+    std::size_t n = 0;
+    for (std::size_t q = 0; q < idx.size(); ++q) {
+        const Ball& b = recs[rec_of[q]].ball;
+        n += kept(b.plane, P[idx[q]]) && kept(b.plane2, P[idx[q]]) ? 0 : 1;
+    }
+    return n;
+}
+
 /// A saddle corner of the ball (c, r) (build.hpp, step 4) with the three faces `side` (unit face
 /// normals m, fits f, labels `label` 0/1/2 of idx), whose face o (`saddle_face`) covers more than
 /// half the turn about the corner. With j, k the other faces, the plane between
@@ -668,25 +679,18 @@ bool attempt_saddle(const Context& cx, const Vec3d& c, double r, const std::vect
     const int j = (o + 1) % 3, k = (o + 2) % 3;
     std::size_t err = 0;
     const Vec4d p_jk = edge_plane(P, side[j], side[k], m[j], m[k], f[j], f[k], c, r, err);
-    const auto above = [&](const Vec4d& pl, std::uint32_t p) { return kept(pl, P[p]); };
     std::vector<std::uint32_t> oj, ok;
-    for (const std::uint32_t p : side[o]) (above(p_jk, p) ? oj : ok).push_back(p);
+    for (const std::uint32_t p : side[o]) (kept(p_jk, P[p]) ? oj : ok).push_back(p);
     if (oj.size() < small_pair_min_face || ok.size() < small_pair_min_face) return false;
     const Vec4d p_oj = edge_plane(P, oj, side[j], m[o], m[j], f[o], f[j], c, r, err);
     const Vec4d p_ok = edge_plane(P, ok, side[k], m[o], m[k], f[o], f[k], c, r, err);
     const Record recs[4] = {corner_record(f[o], c, r, p_oj, p_jk), corner_record(f[o], c, r, p_ok, -p_jk), corner_record(f[j], c, r, -p_oj, p_jk),
                             corner_record(f[k], c, r, -p_ok, -p_jk)};
-    // Each point's record, and the points outside it.
+    // Each point's record.
     std::vector<unsigned char> rec_of(idx.size());
-    std::size_t wrong = 0;
-    for (std::size_t q = 0; q < idx.size(); ++q) {
-        const std::uint32_t p = idx[q];
-        const int l = label[q];
-        rec_of[q] = l == o ? (above(p_jk, p) ? 0 : 1) : (l == j ? 2 : 3);
-        const Ball& b = recs[rec_of[q]].ball;
-        wrong += above(b.plane, p) && above(b.plane2, p) ? 0 : 1;
-    }
-    if (double(wrong) > cx.opt.sharp_max_misclassified * double(idx.size())) return false;
+    for (std::size_t q = 0; q < idx.size(); ++q)
+        rec_of[q] = label[q] == o ? (kept(p_jk, P[idx[q]]) ? 0 : 1) : (label[q] == j ? 2 : 3);
+    if (double(misplaced(P, idx, recs, rec_of)) > cx.opt.sharp_max_misclassified * double(idx.size())) return false;
     if (!corner_supported(cx, c, r, idx.size(), recs)) return false;
     out.records.assign(std::begin(recs), std::end(recs));
     out.side = std::move(rec_of);
@@ -742,13 +746,10 @@ bool attempt_corner(const Context& cx, const Vec3d& c, double r, const std::vect
         planes[i][0] = pl;
         planes[j][1] = -pl;
     }
-    // Points outside their own cluster's wedge.
-    std::size_t wrong = 0;
-    for (int i = 0; i < 3; ++i)
-        for (const std::uint32_t p : side[i]) wrong += kept(planes[i][0], P[p]) && kept(planes[i][1], P[p]) ? 0 : 1;
-    if (double(wrong) > cx.opt.sharp_max_misclassified * double(idx.size())) return false;
     const Record recs[3] = {corner_record(f[0], c, r, planes[0][0], planes[0][1]), corner_record(f[1], c, r, planes[1][0], planes[1][1]),
                             corner_record(f[2], c, r, planes[2][0], planes[2][1])};
+    // Points outside their own cluster's wedge.
+    if (double(misplaced(P, idx, recs, label)) > cx.opt.sharp_max_misclassified * double(idx.size())) return false;
     if (!corner_supported(cx, c, r, idx.size(), recs)) return false;
     out.records.assign(std::begin(recs), std::end(recs));
     out.side = label;

@@ -548,8 +548,7 @@ BoxHit l_hit(const V3L& o, const V3L& d) {
     BoxHit best;
     L best_t = std::numeric_limits<L>::infinity();
     for (const Vec3d& centre : {vec3(1.0, 0.5, 0.5), vec3(0.5, 1.0, 0.5)}) {
-        const Vec3d H = centre[0] == 1.0 ? vec3(1.0, 0.5, 0.5) : vec3(0.5, 1.0, 0.5);
-        const BoxHit b = box_hit(o - to_long(centre), d, H);
+        const BoxHit b = box_hit(o - to_long(centre), d, centre);  // (each box's centre is its half size: it starts at 0)
         if (!b.hit) continue;
         const V3L x = b.x + to_long(centre);
         const L t = dot(x - o, d) / dot(d, d);
