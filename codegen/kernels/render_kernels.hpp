@@ -112,6 +112,33 @@ struct ClipPositionKernel {
     }
 };
 
+/// Per sphere drawn as a point sprite: the sprite's centre and size from the quad's four clip-space
+/// corners (`point_sprite`).
+struct PointSpriteKernel {
+    static constexpr const char* name = "point_sprite";
+    static constexpr const char* source = "quadcast::point_sprite (quadcast/bounds.hpp)";
+    static constexpr const char* summary = "point sprite (NDC centre, size in pixels) around a quad's four clip-space corners";
+    template <class IO> static void run(IO& io) {
+        using T = typename IO::T;
+        const Vec4<T> c0 = io.template vec<4>("c0"), c1 = io.template vec<4>("c1"), c2 = io.template vec<4>("c2"), c3 = io.template vec<4>("c3");
+        const Vec2<T> viewport = io.template vec<2>("viewport");
+        Vec2<T> centre{};
+        T size{};
+        point_sprite(c0, c1, c2, c3, viewport, centre, size);
+        io.out("centre", centre);
+        io.out("size", size);
+    }
+    static void generate(std::mt19937& rng, std::span<float> in) {
+        std::size_t p = 0;
+        // Four corners around a random point, w > 0 (perspective) or 1 (orthographic).
+        const bool ortho = uniform(rng, 0.0f, 1.0f) < 0.3f;
+        const float cx = uniform(rng, -2.0f, 2.0f), cy = uniform(rng, -2.0f, 2.0f), w = ortho ? 1.0f : uniform(rng, 0.05f, 50.0f), e = uniform(rng, 1e-4f, 0.5f);
+        for (int k = 0; k < 4; ++k)
+            put(in, p, vec4((cx + uniform(rng, -e, e)) * w, (cy + uniform(rng, -e, e)) * w, uniform(rng, -w, w), ortho ? 1.0f : w * uniform(rng, 0.999f, 1.001f)));
+        put(in, p, vec2(std::round(uniform(rng, 16.0f, 4096.0f)), std::round(uniform(rng, 16.0f, 4096.0f))));
+    }
+};
+
 /// A random camera: a rigid view (world -> view) and a perspective or orthographic projection,
 /// combined into view_projection; the eye (perspective) or a point of the camera plane.
 inline void put_view_projection(std::mt19937& rng, std::span<float> in, std::size_t& p) {

@@ -36,6 +36,7 @@ const std::vector<KernelDef>& registry() {
         make_kernel<PrimitiveBoundKernel<false>>(),
         make_kernel<PrimitiveBoundKernel<true>>(),
         make_kernel<ClipPositionKernel>(),
+        make_kernel<PointSpriteKernel>(),
         make_kernel<PrimitiveRectKernel<RectBound::sphere>>(),
         make_kernel<PrimitiveRectKernel<RectBound::ellipsoid>>(),
         make_kernel<PrimitiveRectKernel<RectBound::slab>>(),

@@ -915,6 +915,28 @@ Vec4<T> clip_position(const Mat4<T>& projection, const Vec3<T>& p) {
     return projection * vec4(p[0], p[1], p[2], T(1));
 }
 
+/// The point sprite that stands in for a quad of the bounding geometry (the sphere variant's four
+/// clip-space corners c0..c3, each with w > 0; QuadricRenderer draws one vertex per sphere where
+/// `render::sphere_points_fit`): centred on the box of the corners' NDC positions, of side in
+/// pixels the box's larger extent plus 1/4 pixel, so that every pixel centre inside the quad lies
+/// at least 1/8 pixel inside the sprite's square (a rasteriser snaps to 1/256 pixel on llvmpipe;
+/// the quad itself is already grown by `rasterised_sphere_quad`). `viewport`: width, height.
+/// Numerics: ndc_k = c_k.xy / c_k.w; lo, hi by min and max in corner order; centre = (lo + hi) * 0.5;
+/// extent = (hi - lo) * viewport * 0.5 per axis; size = max(extent.x, extent.y) + 0.25.
+template <class T>
+void point_sprite(const Vec4<T>& c0, const Vec4<T>& c1, const Vec4<T>& c2, const Vec4<T>& c3, const Vec2<T>& viewport, Vec2<T>& centre, T& size) {
+    const Vec4<T> c[4] = {c0, c1, c2, c3};
+    Vec2<T> lo = vec2(c0[0] / c0[3], c0[1] / c0[3]), hi = lo;
+    for (int k = 1; k < 4; ++k) {
+        const Vec2<T> n = vec2(c[k][0] / c[k][3], c[k][1] / c[k][3]);
+        lo = vec2(min(lo[0], n[0]), min(lo[1], n[1]));
+        hi = vec2(max(hi[0], n[0]), max(hi[1], n[1]));
+    }
+    centre = vec2((lo[0] + hi[0]) * T(0.5), (lo[1] + hi[1]) * T(0.5));
+    const T ex = (hi[0] - lo[0]) * viewport[0] * T(0.5), ey = (hi[1] - lo[1]) * viewport[1] * T(0.5);
+    size = max(ex, ey) + T(0.25);
+}
+
 /// Tight bounding quad of a sphere (centre `c` in view space, eye at the origin, radius `r`), in
 /// the spirit of Stoll et al. 2006 sec. 3 (area of interest tightly enclosing the projection of
 /// the bounding sphere): the silhouette cone from the eye (half-angle a, sin a = r / L) meets the

@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <cstring>
 #include <iterator>
+#include <limits>
 #include <map>
 #include <memory>
 #include <stdexcept>
@@ -27,6 +28,7 @@
 #include "quadcast/occlusion.hpp"
 #include "quadcast/render/light_camera.hpp"
 #include "quadcast/render/occluder.hpp"
+#include "quadcast/render/point_sprites.hpp"
 #include "quadcast/render/record.hpp"
 #include "quadcast/render/window_ray.hpp"
 
@@ -117,6 +119,9 @@ public:
         api.GenBuffers(1, &groups_);
         api.GenBuffers(1, &corners_);
         api.GenBuffers(1, &nearests_);
+        GLfloat sizes[2] = {1.0f, 1.0f};
+        api.GetFloatv(GL_POINT_SIZE_RANGE, sizes);
+        max_point_size_ = sizes[1];
     }
     ~Impl() {
         if (etex_) api_->DeleteTextures(1, &etex_);
@@ -175,6 +180,12 @@ public:
         raster_occluders_ = on;
         ++revision_;
     }
+    void set_point_sprites(bool on) {
+        point_sprites_ = on;
+        ++revision_;
+    }
+    /// Whether the last `draw_primitives` drew the sphere variant as point sprites.
+    bool drew_points() const { return points_; }
     void set_dispatch_row_limit(std::uint32_t groups) {
         row_limit_ = std::clamp<std::uint32_t>(groups, 1u, 65535u);
         ++revision_;
@@ -217,11 +228,24 @@ public:
         bounds_hi_ = {{-1e300, -1e300, -1e300}};
         render::grow_by_bounds(prims, bounds_lo_, bounds_hi_);
         std::size_t n_without_disk = 0;  // non-planes primitives that do not occlude with one disk (`phased_variant`)
+        sphere_lo_ = {{std::numeric_limits<float>::infinity(), std::numeric_limits<float>::infinity(), std::numeric_limits<float>::infinity()}};
+        sphere_hi_ = {{-std::numeric_limits<float>::infinity(), -std::numeric_limits<float>::infinity(), -std::numeric_limits<float>::infinity()}};
+        sphere_radius_ = 0.0f;
+        each_sphere_.clear();
+        each_sphere_key_.clear();
         for (int v = 0; v < render::variant_count; ++v) {
             ranges_[v] = {static_cast<std::uint32_t>(records.size()), 0};
             for (const auto& p : prims) {
                 if (static_cast<int>(p.variant) != v) continue;
                 records.push_back(render::pack_record(p));
+                if (p.variant == render::Variant::sphere) {
+                    for (int i = 0; i < 3; ++i) {
+                        sphere_lo_[i] = std::min(sphere_lo_[i], p.shape.center[i]);
+                        sphere_hi_[i] = std::max(sphere_hi_[i], p.shape.center[i]);
+                    }
+                    sphere_radius_ = std::max(sphere_radius_, p.shape.radius);
+                    if (each_sphere_.size() <= each_sphere_limit) each_sphere_.push_back({p.shape.center[0], p.shape.center[1], p.shape.center[2], p.shape.radius});
+                }
                 const render::OccluderShape o = render::occluder_shape(p);
                 occluders.insert(occluders.end(), {p.shape.center[0], p.shape.center[1], p.shape.center[2], o.r_in, p.shape.radius, o.half_axis[0], o.half_axis[1], o.half_axis[2]});
                 n_without_disk += p.variant != render::Variant::planes && (!(o.r_in > 0.0f) || render::occluder_is_chain(o));
@@ -462,9 +486,29 @@ public:
         api_->GetBufferSubData(GL_DRAW_INDIRECT_BUFFER, 5 * render::variant_count * sizeof(std::uint32_t), 2 * sizeof(std::uint32_t),
                                out.data() + 5 * render::variant_count + 1);
         api_->BindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
-        for (int v = 0; v < render::variant_count; ++v) out[5 * render::variant_count] += out[static_cast<std::size_t>(5 * v)] / 6;
+        for (int v = 0; v < render::variant_count; ++v) out[5 * render::variant_count] += out[static_cast<std::size_t>(5 * v)] / per_kept(static_cast<render::Variant>(v));
         return out;
     }
+
+    /// Whether every sphere of the sphere variant fits a point sprite in this view: the box of their
+    /// centres (`render::sphere_points_fit`), or else, for at most `each_sphere_limit` spheres, each
+    /// on its own (`render::each_sphere_points_fit`; its answer kept for the camera and viewport).
+    bool sprites_fit(const render::Camera& cam, int width, int height) {
+        if (render::sphere_points_fit(cam, width, height, sphere_lo_, sphere_hi_, sphere_radius_, max_point_size_)) return true;
+        if (each_sphere_.empty() || each_sphere_.size() > each_sphere_limit) return false;
+        std::vector<float> key;
+        for (int j = 0; j < 4; ++j)
+            for (int i = 0; i < 4; ++i) key.insert(key.end(), {cam.view[j][i], cam.projection[j][i]});
+        key.insert(key.end(), {float(cam.orthographic), float(width), float(height)});
+        if (key != each_sphere_key_) {
+            each_sphere_key_ = std::move(key);
+            each_sphere_fit_ = render::each_sphere_points_fit(cam, width, height, each_sphere_, max_point_size_);
+        }
+        return each_sphere_fit_;
+    }
+
+    /// What a variant's indirect command counts per drawn primitive: 6 indices of a quad, or 1 point sprite.
+    std::uint32_t per_kept(render::Variant v) const { return points_ && v == render::Variant::sphere ? 1u : 6u; }
 
     /// The cuts between the phases of phased drawing: quantiles of the sampled phased primitives'
     /// nearest view distances (`nearest_distance`). Planes primitives alone: phase k ending at
@@ -548,6 +592,9 @@ public:
         gl.GetIntegerv(GL_VIEWPORT, viewport);
         const int phases = std::clamp(opt.occlusion_phases, 1, 8);
         expected_overlap_ = 0.0;
+        // The sphere variant as point sprites where all of it fits (render::sphere_points_fit);
+        // not with the compute pass's corners (set_compute_bounds), which the quads' vertex stage fetches.
+        points_ = point_sprites_ && !compute_bounds_ && ranges_[static_cast<int>(render::Variant::sphere)].second > 0 && sprites_fit(cam, viewport[2], viewport[3]);
         const bool asked = cull_pass;
         cull_pass = cull_pass && runs_cull_pass(cam, opt, depth_target != 0, viewport[2], viewport[3], expected_overlap_);  // (none without primitives)
         const bool may_phase = cull_pass && phases_allowed(opt, depth_target != 0);
@@ -702,7 +749,8 @@ public:
             if (ranges_[v].second == 0) continue;
             const auto variant = static_cast<render::Variant>(v);
             if (!ph.first() && !phased_variant(variant) && ph.reuse != 2) continue;  // (drawn in the first phase)
-            const Program& prog = program(variant, opt.culling, cam.orthographic, deferred, opt.environment != nullptr);
+            const bool points = points_ && variant == render::Variant::sphere;
+            const Program& prog = program(variant, opt.culling, cam.orthographic, deferred, opt.environment != nullptr, points);
             gl.UseProgram(prog.id());
             set_uniforms(prog, cam, light, opt, viewport[2], viewport[3]);
             set_bound_uniforms(prog, variant, cam, opt);
@@ -714,10 +762,19 @@ public:
             const bool early = cull_pass && early_discard_ && (variant != render::Variant::planes || planes_in_ball_) && variant != render::Variant::sphere;
             gl.Uniform1i(prog.uniform_location("qc_early"), early ? 1 : 0);
             gl.Uniform1i(prog.uniform_location("qc_depth_width"), viewport[2]);
-            if (cull_pass)
+            if (points) {
+                // (the cull pass wrote a DrawArraysIndirectCommand: count, 1, first = qc_first, 0)
+                gl.Enable(GL_PROGRAM_POINT_SIZE);
+                if (cull_pass)
+                    gl.DrawArraysIndirect(GL_POINTS, reinterpret_cast<const void*>(static_cast<std::uintptr_t>(20 * v)));
+                else
+                    gl.DrawArrays(GL_POINTS, 0, static_cast<GLsizei>(ranges_[v].second));
+                gl.Disable(GL_PROGRAM_POINT_SIZE);
+            } else if (cull_pass) {
                 gl.DrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT, reinterpret_cast<const void*>(static_cast<std::uintptr_t>(20 * v)));
-            else
+            } else {
                 gl.DrawElements(GL_TRIANGLES, static_cast<GLsizei>(6 * ranges_[v].second), GL_UNSIGNED_INT, nullptr);
+            }
         }
         if (cull_pass) gl.BindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, 0);
@@ -828,7 +885,10 @@ private:
         std::uint32_t cmds[5 * render::variant_count + 2] = {};  // the commands, then the counts of culled primitives
         for (int v = 0; v < render::variant_count; ++v) {
             cmds[5 * v + 1] = 1;
-            cmds[5 * v + 3] = 4 * ranges_[v].first;
+            if (points_ && static_cast<render::Variant>(v) == render::Variant::sphere)
+                cmds[5 * v + 2] = ranges_[v].first;  // DrawArraysIndirectCommand: count, instances, first vertex, base instance
+            else
+                cmds[5 * v + 3] = 4 * ranges_[v].first;  // DrawElementsIndirectCommand: count, instances, first index, base vertex, base instance
         }
         gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, commands_);
         if (ph.first())
@@ -902,7 +962,7 @@ private:
             gl.BindBufferRange(GL_SHADER_STORAGE_BUFFER, 7, groups_, at, size);
             gl.UseProgram(scan.id());
             gl.Uniform1ui(scan.uniform_location("qc_group_count"), groups(ranges_[v].second, 64));
-            gl.Uniform1ui(scan.uniform_location("qc_per_kept"), 6u);
+            gl.Uniform1ui(scan.uniform_location("qc_per_kept"), per_kept(static_cast<render::Variant>(v)));
             gl.Uniform1ui(scan.uniform_location("qc_command_at"), static_cast<GLuint>(5 * v));
             gl.DispatchCompute(1, 1, 1);
             gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
@@ -946,8 +1006,8 @@ private:
     /// The program of variant `v`: forward (with `env`, environment reflection) or, with
     /// `gbuffer`, the geometry-buffer stages (which do not shade), for the fragment stage set by
     /// `set_fragment_stage` (compiled on first use).
-    const Program& program(render::Variant v, bool culling, bool ortho, bool gbuffer = false, bool env = false) {
-        return programs_.get(render::quadric_key(v, culling, ortho, gbuffer, env, stage_));
+    const Program& program(render::Variant v, bool culling, bool ortho, bool gbuffer = false, bool env = false, bool points = false) {
+        return programs_.get(render::quadric_key(v, culling, ortho, gbuffer, env, stage_, points));
     }
 
     /// The deferred pass: one full-screen triangle into the colour target (depth test off; the
@@ -1161,6 +1221,15 @@ private:
     bool early_discard_ = true;
     bool compute_bounds_ = false;  ///< off by default: it did not pay on llvmpipe (bench spheres, 'comp')
     bool raster_occluders_ = false;  ///< off by default: it did not pay on llvmpipe (bench spheres, 'rast')
+    bool point_sprites_ = true;  ///< the sphere variant as point sprites where they fit (`set_point_sprites`)
+    bool points_ = false;        ///< the frame being drawn does (`draw_primitives`)
+    float max_point_size_ = 1.0f;  ///< GL_POINT_SIZE_RANGE's upper end
+    Vec3<float> sphere_lo_{}, sphere_hi_{};  ///< the box of the sphere variant's centres (empty: lo > hi)
+    float sphere_radius_ = 0.0f;             ///< its largest radius
+    static constexpr std::size_t each_sphere_limit = 32768;  ///< spheres tested one by one where their box does not fit (`sprites_fit`)
+    std::vector<std::array<float, 4>> each_sphere_;  ///< their centres and radii (more than the limit: not kept)
+    std::vector<float> each_sphere_key_;             ///< the camera and viewport of `each_sphere_fit_`
+    bool each_sphere_fit_ = false;
     bool occluders_in_depth_ = false;  ///< `rasterise_occluders` drew into the depth target of the next `draw_primitives`
     GLuint query_ = 0, fs_query_ = 0;
     std::uint64_t samples_passed_ = 0, fragment_invocations_ = 0;
@@ -1176,6 +1245,8 @@ void QuadricRenderer::set_slab_quads(bool on) { impl_->set_slab_quads(on); }
 void QuadricRenderer::set_early_discard(bool on) { impl_->set_early_discard(on); }
 void QuadricRenderer::set_compute_bounds(bool on) { impl_->set_compute_bounds(on); }
 void QuadricRenderer::set_raster_occluders(bool on) { impl_->set_raster_occluders(on); }
+void QuadricRenderer::set_point_sprites(bool on) { impl_->set_point_sprites(on); }
+bool QuadricRenderer::drew_points() const { return impl_->drew_points(); }
 void QuadricRenderer::set_dispatch_row_limit(std::uint32_t groups) { impl_->set_dispatch_row_limit(groups); }
 std::uint64_t QuadricRenderer::samples_passed() const { return impl_->samples_passed(); }
 void QuadricRenderer::set_count_fragments(bool on) { impl_->set_count_fragments(on); }

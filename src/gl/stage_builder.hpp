@@ -94,17 +94,34 @@ inline std::string record_varyings_in() {
 /// A finer level holds more of the occluders' detail (a texel is as far as the farthest pixel
 /// under it) but costs span^2 reads: the quadric cull pass reads up to 8 x 8 (bench sticks: 8-9%
 /// fewer primitives drawn than at 4 x 4, 16 x 16 cost more than it saved), the isosurfaces' up to 4 x 4.
-inline std::string pyramid_farthest_glsl(unsigned span) {
+/// With `behind`, `qc_pyramid_behind(b, bits)` instead: whether `bits` (float bits of a positive
+/// view distance) lies behind that farthest value. It first reads the coarser level where b spans
+/// at most 2 x 2 texels: a texel there is the farthest of those below it, so where `bits` already
+/// lies behind those the finer read would say so too: the same answer in at most 4 loads.
+inline std::string pyramid_farthest_glsl(unsigned span, bool behind = false) {
     const std::string limit = std::to_string(span - 1) + "u";
-    return "uint qc_pyramid_farthest(uvec4 b)\n{\n"
-           "    int level = 0;\n"
-           "    while (level + 1 < qc_level_count && ((b.z >> level) - (b.x >> level) > " + limit + " || (b.w >> level) - (b.y >> level) > " + limit + ")) ++level;\n"
-           "    uvec3 l = qc_levels[level];\n"
-           "    uint farthest = 0u;\n"
-           "    for (uint y = b.y >> level; y <= (b.w >> level); ++y)\n"
-           "        for (uint x = b.x >> level; x <= (b.z >> level); ++x) farthest = max(farthest, qc_depth[l.x + y * l.y + x]);\n"
-           "    return farthest;\n"
-           "}\n\n";
+    std::string out =
+        "// The lowest pyramid level where b spans at most limit + 1 texels a side, from `from`.\n"
+        "int qc_pyramid_level(uvec4 b, int from, uint limit)\n{\n"
+        "    int level = from;\n"
+        "    while (level + 1 < qc_level_count && ((b.z >> level) - (b.x >> level) > limit || (b.w >> level) - (b.y >> level) > limit)) ++level;\n"
+        "    return level;\n"
+        "}\n\n"
+        "// The farthest value of level `level` over the texels under b.\n"
+        "uint qc_pyramid_max(uvec4 b, int level)\n{\n"
+        "    uvec3 l = qc_levels[level];\n"
+        "    uint farthest = 0u;\n"
+        "    for (uint y = b.y >> level; y <= (b.w >> level); ++y)\n"
+        "        for (uint x = b.x >> level; x <= (b.z >> level); ++x) farthest = max(farthest, qc_depth[l.x + y * l.y + x]);\n"
+        "    return farthest;\n"
+        "}\n\n";
+    if (!behind)
+        return out + "uint qc_pyramid_farthest(uvec4 b) { return qc_pyramid_max(b, qc_pyramid_level(b, 0, " + limit + ")); }\n\n";
+    return out + "bool qc_pyramid_behind(uvec4 b, uint bits)\n{\n"
+                 "    int level = qc_pyramid_level(b, 0, " + limit + ");\n"
+                 "    if (bits > qc_pyramid_max(b, qc_pyramid_level(b, level, 1u))) return true;  // (the coarse read: at most 2 x 2 texels)\n"
+                 "    return bits > qc_pyramid_max(b, level);\n"
+                 "}\n\n";
 }
 
 /// The end of a cull pass over records in workgroups of 64 (the quadric renderer's and the

@@ -189,13 +189,14 @@ Stage vertex_shader(bool ortho, bool planes) {
 /// The vertex stage of the sphere-specialised variant: the bounding-sphere quad (the sphere is
 /// its own bound), no per-primitive culling, and the radius, centre and
 /// colour passed on as flat varyings (its fragment stage reads no record).
-Stage sphere_vertex_shader(bool ortho) {
+Stage sphere_vertex_shader(bool ortho, bool points) {
     Stage s;
     std::ostringstream fns;
     const std::string proj = ortho ? "ortho" : "perspective";
     add_kernel(s, fns, "primitive_bound_" + proj);
     add_kernel(s, fns, "clip_position");
     add_kernel(s, fns, "nearest_distance");
+    if (points) add_kernel(s, fns, "point_sprite");
     std::ostringstream m;
     m << record_glsl;
     m << bound_uniforms << "\n"
@@ -203,6 +204,29 @@ Stage sphere_vertex_shader(bool ortho) {
          "flat out float qc_radius;\nflat out vec3 qc_center;\nflat out vec3 qc_prim_color;\nflat out vec2 qc_prim_material;  // specular, shininess\n\n";
     m << fns.str();
     m << visible_glsl << fetched_bounds_glsl;
+    if (points) {
+        // (the renderer draws points only where render::sphere_points_fit: every sphere inside the
+        // view's side planes and beyond the near plane, so the quad is valid and its corners in front)
+        m << "// Point sprites: vertex i is primitive qc_first + i, or with qc_indirect the visible primitive in\n"
+             "// slot i (the draw's first vertex is qc_first); the sprite around the bounding quad's corners.\n"
+             "void main()\n{\n"
+             "    uint slot = uint(gl_VertexID);\n"
+             "    uint prim = qc_indirect ? qc_visible[slot] : qc_first + slot;\n"
+             "    qc_Primitive p = qc_prims[prim];\n"
+             "    qc_radius = qc_record_radius(p);\n"
+             "    qc_center = qc_record_center(p);\n"
+             "    qc_prim_color = qc_record_color(p);\n"
+             "    qc_prim_material = qc_record_material(p);\n"
+          << bound_glsl(proj, false, true)
+          << "    qc_nearest_distance(qc_vz_row, qc_vz_t, qc_record_center(p), qc_record_radius(p), qc_nearest);\n"
+             "    vec2 centre;\n    float size;\n"
+             "    qc_point_sprite(clips[0], clips[1], clips[2], clips[3], qc_viewport, centre, size);\n"
+             "    gl_PointSize = size;\n"
+             "    gl_Position = vec4(centre, 0.0, 1.0);\n"
+             "}\n";
+        s.text = m.str();
+        return s;
+    }
     m << "// Indexed draw: vertex 4 i + k is corner k of primitive qc_first + i (two triangles share two);\n"
          "// with qc_indirect (occlusion culling) of the visible primitive in slot i (the draw's base vertex\n"
          "// is 4 qc_first); with qc_fetch the corner and the nearest distance the cull pass wrote for slot i.\n"
@@ -621,7 +645,7 @@ Stage cull_shader(bool sphere_bound) {
          "// 3: a frame drawn without reuse, shown = kept.\n"
          "layout(std430, binding = 10) buffer qc_Shown { uint qc_shown[]; };\n"
          "uniform int qc_reuse;\n\n"
-      << fns.str() << detail::pyramid_farthest_glsl(8)
+      << fns.str() << detail::pyramid_farthest_glsl(8, true)
       << "// Counts a culled record (0: outside the view, 1: behind the occluders); with reuse only in the\n"
          "// second phase, and only the records the first did not draw (`shown`).\n"
          "void qc_count_culled(uint what, bool shown)\n{\n"
@@ -653,8 +677,7 @@ Stage cull_shader(bool sphere_bound) {
          "        qc_pixel_span(lo, hi, qc_viewport, span);\n"
          "        if (span.x > span.z || span.y > span.w) { qc_count_culled(0u, shown); return false; }  // no pixel centre of the viewport\n"
          "        if (qc_occlusion && nearest > 0.0) {\n"
-         "            uint farthest = qc_pyramid_farthest(uvec4(span));\n"
-         "            if (floatBitsToUint(nearest) > farthest) { qc_count_culled(1u, shown); return false; }  // behind every occluder over its pixels\n"
+         "            if (qc_pyramid_behind(uvec4(span), floatBitsToUint(nearest))) { qc_count_culled(1u, shown); return false; }  // behind every occluder over its pixels\n"
          "        }\n"
          "    }\n"
          "    return true;\n"
@@ -847,9 +870,9 @@ std::vector<StageText> program_stages(const render::QuadricKey& key) {
     const std::string proj = k.ortho ? "ortho" : "perspective";
     std::vector<StageText> out;
     const bool planes = k.shape == FragmentShape::planes;
-    const std::string vname = (sphere ? "qc_sphere_" : planes ? "qc_quadric_planes_" : "qc_quadric_") + proj + ".vert";
-    out.push_back(stage_text(StageText::Kind::vertex, vname, sphere ? sphere_vertex_shader(k.ortho) : vertex_shader(k.ortho, planes),
-                             sphere   ? "quadric renderer: vertex stage of the sphere variant, " + proj + " camera"
+    const std::string vname = (sphere ? (k.points ? "qc_sphere_points_" : "qc_sphere_") : planes ? "qc_quadric_planes_" : "qc_quadric_") + proj + ".vert";
+    out.push_back(stage_text(StageText::Kind::vertex, vname, sphere ? sphere_vertex_shader(k.ortho, k.points) : vertex_shader(k.ortho, planes),
+                             sphere   ? "quadric renderer: vertex stage of the sphere variant" + std::string(k.points ? " (point sprites)" : "") + ", " + proj + " camera"
                              : planes ? "quadric renderer: vertex stage of the planes variant, " + proj + " camera"
                                       : "quadric renderer: vertex stage, " + proj + " camera"));
     if (k.stage == render::FragmentStage::passthrough) {

@@ -8,6 +8,7 @@
 #include "quadcast/gl/osmesa_context.hpp"
 #include "quadcast/gl/quadric_renderer.hpp"
 #include "quadcast/render/cpu_renderer.hpp"
+#include "quadcast/render/point_sprites.hpp"
 #include "render/render_testing.hpp"
 
 using namespace quadcast;
@@ -124,4 +125,96 @@ TEST_CASE("sphere variant: no edge pixel is lost: 10k random spheres at 1024x768
     CHECK(d.coverage_diff == 0);
     CHECK(depth_diff == 0);
     CHECK(d.color_diff <= 10);
+}
+
+TEST_CASE("sphere variant: point sprites draw the picture quads draw, and only where every sphere fits") {
+    // QuadricRenderer::set_point_sprites: one vertex per sphere (`quadcast::point_sprite`) where
+    // render::sphere_points_fit holds for the frame, else quads. 4000 random spheres in the unit
+    // cube (the scene of `bench spheres`, radius 0.3 N^(-1/3)) at 512x384: perspective and
+    // orthographic, forward, deferred with shadows (the light's orthographic camera draws sprites
+    // too) and silhouettes, without and with the cull pass (its indirect command then counts
+    // points), three frames each (the third reuses the shown set); and a close-up whose spheres
+    // cross the view's edges, which must draw quads. Against the same renderer with sprites off:
+    // 0 coverage, colour and depth differences.
+    gl::OsmesaContext ctx;
+    gl::QuadricRenderer points_r(ctx.api()), quads_r(ctx.api());
+    quads_r.set_point_sprites(false);
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f), c(0.2f, 1.0f);
+    const int n = 4000;
+    const float radius = 0.3f * std::pow(float(n), -1.0f / 3.0f);
+    std::vector<render::Primitive> spheres;
+    for (int i = 0; i < n; ++i) spheres.push_back(qc_render_test::sphere(vec3(u(rng), u(rng), u(rng)), radius, vec3(c(rng), c(rng), c(rng))));
+    points_r.set_primitives(spheres);
+    quads_r.set_primitives(spheres);
+    Light light;
+    light.direction = vec3(-0.4f, -0.6f, -1.0f);
+    struct View {
+        const char* name;
+        Camera cam;
+        bool points;
+    };
+    const View views[] = {
+        {"perspective", qc_render_test::look_at(vec3(0.5, 0.5, 3.0), vec3(0.5, 0.5, 0.5), vec3(0.0, 1.0, 0.0), qc_render_test::perspective(35, 4.0 / 3.0, 1, 5)), true},
+        {"orthographic", qc_render_test::look_at(vec3(0.6, 0.4, 3.0), vec3(0.5, 0.5, 0.5), vec3(0.0, 1.0, 0.0), qc_render_test::orthographic(-0.9, 0.9, -0.7, 0.7, 1, 5), true), true},
+        {"close-up across the edges", qc_render_test::look_at(vec3(0.5, 0.5, 1.6), vec3(0.5, 0.5, 0.5), vec3(0.0, 1.0, 0.0), qc_render_test::perspective(30, 4.0 / 3.0, 0.1, 5)), false},
+    };
+    long compared = 0;
+    for (const View& v : views)
+        for (int mode = 0; mode < 3; ++mode) {
+            RenderOptions o;
+            o.width = 512;
+            o.height = 384;
+            o.occlusion_culling = mode != 0;
+            o.occlusion_min_overlap = 0.0f;  // (the cull pass in every frame)
+            o.shadows = o.silhouettes = mode == 2;
+            for (int frame = 0; frame < 3; ++frame) {
+                points_r.draw(v.cam, light, o);
+                quads_r.draw(v.cam, light, o);
+                CHECK(points_r.drew_points() == v.points);
+                CHECK_FALSE(quads_r.drew_points());
+                const Image a = points_r.read(), b = quads_r.read();
+                const qc_render_test::ImageDiff d = qc_render_test::image_diff(a, b);
+                long depth_diff = 0;
+                for (std::size_t i = 0; i < a.depth.size(); ++i) depth_diff += a.depth[i] != b.depth[i];
+                if (frame == 2)
+                    std::printf("[sphere variant] sprites against quads, %s, %s: %ld covered px, %ld coverage, %ld colour, %ld depth differences%s\n", v.name,
+                                mode == 0 ? "no cull pass" : mode == 1 ? "cull pass" : "cull pass, deferred with shadows and silhouettes", d.covered, d.coverage_diff,
+                                d.color_diff, depth_diff, points_r.reused_shown_set() ? " (shown set reused)" : "");
+                CHECK(d.covered > 30000);
+                CHECK(d.coverage_diff == 0);
+                CHECK(d.color_diff == 0);
+                CHECK(depth_diff == 0);
+                compared += d.covered;
+            }
+        }
+    CHECK(compared > 1000000);
+    // A ball of 3000 spheres framed by the camera: the box of their centres reaches out of the view
+    // (its corners), each sphere lies inside it (render::each_sphere_points_fit): sprites.
+    std::vector<render::Primitive> ball;
+    while (ball.size() < 3000) {
+        const Vec3<float> p = vec3(u(rng) * 2 - 1, u(rng) * 2 - 1, u(rng) * 2 - 1);
+        if (dot(p, p) <= 1.0f) ball.push_back(qc_render_test::sphere(p, 0.06f, vec3(c(rng), c(rng), c(rng))));
+    }
+    points_r.set_primitives(ball);
+    quads_r.set_primitives(ball);
+    const Camera framed = qc_render_test::look_at(vec3(0.0, 0.0, 4.6), vec3(0.0, 0.0, 0.0), vec3(0.0, 1.0, 0.0), qc_render_test::perspective(30, 4.0 / 3.0, 1, 10));
+    const Vec3<float> corner = vec3(1.0f, 1.0f, 1.0f);
+    CHECK_FALSE(render::sphere_points_fit(framed, 512, 384, -corner, corner, 0.06f, 255.0f));  // (the box does not fit)
+    RenderOptions o;
+    o.width = 512;
+    o.height = 384;
+    points_r.draw(framed, light, o);
+    quads_r.draw(framed, light, o);
+    CHECK(points_r.drew_points());
+    const Image a = points_r.read(), b = quads_r.read();
+    const qc_render_test::ImageDiff d = qc_render_test::image_diff(a, b);
+    long depth_diff = 0;
+    for (std::size_t i = 0; i < a.depth.size(); ++i) depth_diff += a.depth[i] != b.depth[i];
+    std::printf("[sphere variant] sprites against quads, a ball of spheres framed by the camera: %ld covered px, %ld coverage, %ld colour, %ld depth differences\n",
+                d.covered, d.coverage_diff, d.color_diff, depth_diff);
+    CHECK(d.covered > 50000);
+    CHECK(d.coverage_diff == 0);
+    CHECK(d.color_diff == 0);
+    CHECK(depth_diff == 0);
 }

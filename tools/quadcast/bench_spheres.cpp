@@ -112,7 +112,10 @@ void run_bounds_bench(const BoundsBenchOptions& o) {
                 "'reuse': the default options with the last frame's shown set drawn first (RenderOptions::occlusion_reuse; the other columns' frames\n"
                 "interleave options in one renderer and reuse nothing), its own renderer's third and later frames; 'reuse drawn' the primitives\n"
                 "its two phases drew ('*': the frame did not reuse the set: drawn in phases, or too little overlap), 'reuse fs' its\n"
-                "fragment-shader invocations per covered pixel, 'auto/reuse' > 1: the reuse pays\n",
+                "fragment-shader invocations per covered pixel, 'auto/reuse' > 1: the reuse pays;\n"
+                "spheres: every column draws the sphere variant as point sprites, one vertex per sphere, where they fit (QuadricRenderer::set_point_sprites,\n"
+                "render::sphere_points_fit); 'quads ms': the 'reuse' frames with quads of four vertices instead, in a renderer of its own, 'pts' whether\n"
+                "the 'reuse' frame drew sprites, 'quads/reuse' > 1: the sprites pay\n",
                 double(render::RenderOptions{}.occlusion_min_overlap));
     std::printf("%10s %9s %8s %8s %8s %8s %10s %10s %7s %6s %6s %6s %7s %7s %7s", o.sticks ? "sticks" : "spheres", "covered", "quad ms", "tight ms", "cull ms", "of it cp",
                 "quad/cull", "tight/cull", "drawn", "q rast", "t rast", "c rast", "q fs", "t fs", "c fs");
@@ -120,10 +123,13 @@ void run_bounds_bench(const BoundsBenchOptions& o) {
     if (o.sticks) std::printf(" %8s %10s %7s", "rect ms", "rect/tight", "r rast");
     std::printf(" %8s %8s %8s %6s %10s %8s %9s %9s", "overlap", "t layers", "auto ms", "auto", "best/auto", "1ph ms", "1ph drawn", "1ph/cull");
     std::printf(" %8s %10s %8s %11s", "reuse ms", "reuse drawn", "reuse fs", "auto/reuse");
+    if (!o.sticks) std::printf(" %8s %4s %11s", "quads ms", "pts", "quads/reuse");
     if (o.compare) std::printf(" %16s %14s %14s %15s", "closed cull ms", "sphere/closed", "closed comp ms", "cl. cull/comp");
     std::printf("\n");
     gl::QuadricRenderer r(ctx.api());
     gl::QuadricRenderer reuse_r(ctx.api());  // the default options' frames, each reusing the last one's shown set
+    gl::QuadricRenderer quads_r(ctx.api());  // the same with the sphere variant as quads, not point sprites
+    quads_r.set_point_sprites(false);
     std::unique_ptr<gl::QuadricRenderer> general;  // --compare: the closed-quadric variant
     if (o.compare) general = std::make_unique<gl::QuadricRenderer>(ctx.api());
     render::Camera cam;
@@ -159,6 +165,7 @@ void run_bounds_bench(const BoundsBenchOptions& o) {
     for (int n : o.counts) {
         r.set_primitives(o.sticks ? random_sticks(n, 7) : random_spheres(n, 7, render::Variant::sphere));
         reuse_r.set_primitives(o.sticks ? random_sticks(n, 7) : random_spheres(n, 7, render::Variant::sphere));
+        if (!o.sticks) quads_r.set_primitives(random_spheres(n, 7, render::Variant::sphere));
         if (general) general->set_primitives(random_spheres(n, 7, render::Variant::ellipsoid));
         // Count the fragments of one frame each (the queries are not in the timed frames)
         double frag[3], rast[3];
@@ -233,16 +240,23 @@ void run_bounds_bench(const BoundsBenchOptions& o) {
         const bool reused = reuse_r.reused_shown_set();
         const long reuse_diff = differing(tight_img, reuse_r.read());
         if (reuse_diff) std::printf("WARNING: %ld pixels differ between the frame reusing the shown set and the unculled frame\n", reuse_diff);
+        const bool drew_points = reuse_r.drew_points();
+        if (!o.sticks) {  // quads against point sprites: the same picture
+            for (int i = 0; i < 3; ++i) quads_r.draw(cam, light, reuse);
+            const long quads_diff = differing(reuse_r.read(), quads_r.read());
+            if (quads_diff) std::printf("WARNING: %ld pixels differ between the sphere variant as quads and as point sprites\n", quads_diff);
+        }
         r.draw(cam, light, modes[2]);  // warm-up
         if (general) general->draw(cam, light, modes[2]);  // warm-up
         // Time the frames, interleaved
-        std::vector<double> ms_auto, ms_one_phase, ms_reuse;
+        std::vector<double> ms_auto, ms_one_phase, ms_reuse, ms_quads;
         std::vector<double> ms[3], ms_general, ms_general_comp, ms_cull, ms_rect, ms_late, ms_comp, ms_cull_comp, ms_occ, ms_cull_occ;
         for (int i = 0; i < o.frames; ++i) {
             for (int m = 0; m < 3; ++m) ms[m].push_back(time_frame(r, modes[m]));
             ms_cull.push_back(r.cull_pass_ms());
             ms_auto.push_back(time_frame(r, automatic));
             ms_reuse.push_back(time_frame(reuse_r, reuse));
+            if (!o.sticks) ms_quads.push_back(time_frame(quads_r, reuse));
             ms_one_phase.push_back(time_frame(r, one_phase));
             r.set_early_discard(false);
             ms_late.push_back(time_frame(r, modes[2]));
@@ -291,6 +305,7 @@ void run_bounds_bench(const BoundsBenchOptions& o) {
         const double t_reuse = median(ms_reuse);
         std::printf(" %8.1f %9.1f%%%s %8.2f %10.2fx", t_reuse, 100.0 * static_cast<double>(reuse_drawn) / std::max(1, n), reused ? "" : "*", reuse_frag / covered,
                     t_auto / t_reuse);
+        if (!o.sticks) std::printf(" %8.1f %4s %10.2fx", median(ms_quads), drew_points ? "yes" : "no", median(ms_quads) / t_reuse);
         if (general) {
             const double m_general = median(ms_general);
             const double m_general_comp = median(ms_general_comp);

@@ -278,6 +278,7 @@ int run_render(const RenderArgs& a) {
         if (!fr.slim_balls.empty()) r.add_pass(slim);
         // (the renderer keeps its own copy)
         const std::size_t primitive_count = fr.primitives.size();
+        const bool has_spheres = std::any_of(fr.primitives.begin(), fr.primitives.end(), [](const render::Primitive& p) { return p.variant == render::Variant::sphere; });
         release(fr.primitives);
         for (const auto& m : volumes) iso.add_volume(m);
         if (!volumes.empty()) r.add_pass(iso);
@@ -337,6 +338,10 @@ int run_render(const RenderArgs& a) {
             else if (fr.options.occlusion_culling && primitive_count > 0)
                 std::printf("%s: no cull pass: expected overlap %s below occlusion_min_overlap %g (the primitives rarely hide one another); all %zu drawn\n",
                             a.scene.c_str(), fmt_overlap(r.expected_overlap()).c_str(), double(fr.options.occlusion_min_overlap), r.drawn_primitives());
+            if (has_spheres)
+                std::printf("%s: spheres drawn as %s\n", a.scene.c_str(),
+                            r.drew_points() ? "point sprites (one vertex each)"
+                                            : "quads (not every sphere lies inside the view's side planes and beyond the near plane with a sprite small enough: render::sphere_points_fit)");
             if (gl::has_extension(ctx->api(), "GL_ARB_pipeline_statistics_query")) {
                 // One more frame with the fragment count (not timed).
                 r.set_count_fragments(true);

@@ -75,6 +75,15 @@ public:
     /// llvmpipe, whose rasteriser spent as long on the quadrilaterals as the compute pass on the
     /// disks: `quadcast bench spheres` / `bench sticks`, column 'rast'.
     void set_raster_occluders(bool on);
+    /// The sphere variant drawn as point sprites, one vertex per sphere (`quadcast::point_sprite`:
+    /// the square around the bounding quad's corners), in frames where every sphere fits
+    /// (`quadcast::render::sphere_points_fit`: inside the view's side planes, beyond the near plane,
+    /// sprites within GL_POINT_SIZE_RANGE), else quads of four vertices. On by default: llvmpipe
+    /// runs the vertex stage on one thread (`quadcast bench spheres`, column 'quads'). The same
+    /// picture. Not with `set_compute_bounds`, whose corners the quads' vertex stage fetches.
+    void set_point_sprites(bool on);
+    /// Whether the last frame's (or `draw_primitives`') sphere variant was drawn as point sprites.
+    bool drew_points() const;
     /// The compute passes over records dispatch their workgroups (64 records each) in rows of at
     /// most this many (default and upper limit 65535, GL's guaranteed limit per dimension), so
     /// that a variant with more than 4M primitives can be culled. A test switch: smaller rows

@@ -77,6 +77,9 @@ struct QuadricKey {
     bool gbuffer = false;      ///< write the geometry buffer of deferred shading instead of shading
     bool environment = false;  ///< forward shading mixes in the environment reflection
     FragmentStage stage = FragmentStage::incremental;
+    /// The sphere variant drawn as point sprites, one vertex per sphere (QuadricRenderer, where
+    /// `render::sphere_points_fit`), instead of quads of four.
+    bool points = false;
     friend constexpr bool operator==(const QuadricKey&, const QuadricKey&) = default;
 };
 
@@ -85,6 +88,7 @@ struct QuadricKey {
 /// environment), the pass-through stage depends only on the vertex stage (sphere or not, camera).
 constexpr QuadricKey canonical(QuadricKey k) {
     if (k.gbuffer || k.stage != FragmentStage::incremental) k.environment = false;
+    if (k.shape != FragmentShape::sphere || k.stage == FragmentStage::brute_force) k.points = false;
     if (k.stage == FragmentStage::passthrough) {
         k.cull = true;
         if (k.shape != FragmentShape::sphere) k.shape = FragmentShape::ellipsoid;
@@ -93,8 +97,8 @@ constexpr QuadricKey canonical(QuadricKey k) {
 }
 
 constexpr QuadricKey quadric_key(Variant v, bool culling, bool ortho, bool gbuffer, bool environment,
-                                 FragmentStage stage = FragmentStage::incremental) {
-    return canonical(QuadricKey{fragment_shape(v), cast_options(v, culling).cull, ortho, gbuffer, environment, stage});
+                                 FragmentStage stage = FragmentStage::incremental, bool points = false) {
+    return canonical(QuadricKey{fragment_shape(v), cast_options(v, culling).cull, ortho, gbuffer, environment, stage, points});
 }
 
 /// Throws std::invalid_argument naming why no stages exist for `k`.
@@ -172,6 +176,7 @@ inline std::string key_name(const QuadricKey& k) {
     if (k.environment) s += ":environment";
     if (k.stage == FragmentStage::brute_force) s += ":brute";
     if (k.stage == FragmentStage::passthrough) s += ":passthrough";
+    if (k.points) s += ":points";
     return s;
 }
 inline std::string key_name(const DeferredKey& k) {
@@ -227,10 +232,17 @@ inline std::vector<QuadricKey> all_quadric_keys() {
                 out.push_back({s, cull, ortho, false, false});
                 out.push_back({s, cull, ortho, false, true});
                 out.push_back({s, cull, ortho, true, false});
+                if (s == FragmentShape::sphere)
+                    for (bool gbuffer : {false, true})
+                        for (bool env : {false, true})
+                            if (!(gbuffer && env)) out.push_back({s, cull, ortho, gbuffer, env, FragmentStage::incremental, true});
                 if (!ortho && s != FragmentShape::sphere) out.push_back({s, cull, false, false, false, FragmentStage::brute_force});
             }
     for (bool ortho : {false, true})
-        for (FragmentShape s : {FragmentShape::ellipsoid, FragmentShape::sphere}) out.push_back({s, true, ortho, false, false, FragmentStage::passthrough});
+        for (FragmentShape s : {FragmentShape::ellipsoid, FragmentShape::sphere}) {
+            out.push_back({s, true, ortho, false, false, FragmentStage::passthrough});
+            if (s == FragmentShape::sphere) out.push_back({s, true, ortho, false, false, FragmentStage::passthrough, true});
+        }
     return out;
 }
 
