@@ -119,6 +119,9 @@ public:
         api.GenBuffers(1, &groups_);
         api.GenBuffers(1, &corners_);
         api.GenBuffers(1, &nearests_);
+        api.GenBuffers(1, &keep2_);
+        api.GenBuffers(1, &groups2_);
+        api.GenBuffers(1, &commands2_);
         GLfloat sizes[2] = {1.0f, 1.0f};
         api.GetFloatv(GL_POINT_SIZE_RANGE, sizes);
         max_point_size_ = sizes[1];
@@ -138,6 +141,11 @@ public:
         api_->DeleteBuffers(1, &groups_);
         api_->DeleteBuffers(1, &corners_);
         api_->DeleteBuffers(1, &nearests_);
+        api_->DeleteBuffers(1, &keep2_);
+        api_->DeleteBuffers(1, &groups2_);
+        api_->DeleteBuffers(1, &commands2_);
+        for (ShownSet& s : shown_)
+            if (s.list) api_->DeleteBuffers(1, &s.list);
         api_->DeleteVertexArrays(1, &vao_);
         if (query_) api_->DeleteQueries(1, &query_);
         if (fs_query_) api_->DeleteQueries(1, &fs_query_);
@@ -288,7 +296,9 @@ public:
         for (ShownSet& s : shown_) {
             if (!s.buffer) api_->GenBuffers(1, &s.buffer);
             upload(s.buffer, std::vector<std::uint32_t>(std::max<std::size_t>(1, records.size())));
-            s.valid = s.all = false;
+            if (!s.list) api_->GenBuffers(1, &s.list);
+            upload(s.list, std::vector<std::uint32_t>(std::max<std::size_t>(1, records.size())));
+            s.valid = s.all = s.listed = false;
             s.target = 0;
         }
         reused_ = false;
@@ -297,6 +307,8 @@ public:
         expected_overlap_ = 0.0;
         upload(visible_, std::vector<std::uint32_t>(std::max<std::size_t>(1, records.size())));
         upload(keep_, std::vector<std::uint32_t>(std::max<std::size_t>(1, records.size())));
+        upload(keep2_, std::vector<std::uint32_t>(std::max<std::size_t>(1, records.size())));
+        upload(commands2_, std::vector<std::uint32_t>(5 * render::variant_count));
         api_->BindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
         count_ = records.size();
         drawn_ = count_;
@@ -542,12 +554,23 @@ public:
     /// The phase of a cull pass: its index of `count`, and the window [lo, hi) of nearest view
     /// distances of the planes primitives it keeps (the first phase from -infinity, the last to
     /// +infinity); a single phase keeps all. `depth_target`: the depth texture the draws write.
+    struct ShownSet {
+        GLuint buffer = 0, target = 0;
+        bool valid = false;
+        bool all = false;  ///< every record marked shown (frames without a cull pass need not mark them again)
+        GLuint list = 0;   ///< the shown records in record order, each variant's from its first record (the visible list's layout)
+        std::array<std::uint32_t, render::variant_count> counts{};  ///< per variant the shown records in `list`
+        bool listed = false;  ///< `list` and `counts` hold the set (compacted by the frame that tested it)
+    };
     struct Phase {
         int index = 0, count = 1;
         float lo = 0.0f, hi = 0.0f;
         GLuint depth_target = 0;
         int reuse = 0;  ///< the cull shader's qc_reuse (1, 2: the phases of a frame reusing the shown set; 3: a frame recording it)
         GLuint shown = 0;  ///< the shown set's buffer (with `reuse`)
+        GLuint list = 0;   ///< with `reuse` 2 or 3: the shown set's list, compacted from the test's results for the next frame
+        const ShownSet* listed = nullptr;  ///< reuse 1 drawn from this set's list without a cull pass
+        bool fresh = false;  ///< the frame's first cull pass (it clears the depth image and the counts)
         bool first() const { return index == 0; }
         bool last() const { return index + 1 == count; }
     };
@@ -611,7 +634,7 @@ public:
             shown = &shown_set_of(shown_, next_shown_, depth_target);
         } else {
             for (ShownSet& s : shown_)
-                if (s.target == depth_target) s.valid = false;
+                if (s.target == depth_target) s.valid = s.listed = false;
         }
         // (reuse needs no occluders, so it pays from a lower overlap than the cull pass: from
         // `reuse_overlap_share` of occlusion_min_overlap)
@@ -620,6 +643,7 @@ public:
         cull_pass_ran_ = cull_pass;
         const std::vector<float> cuts = phased ? phase_cuts(cam, phases, viewport[2], viewport[3]) : std::vector<float>{};
         earlier_phases_drawn_ = 0;
+        bool ph_listed_first = false, listed_now = false;
         const int phase_count = phased ? phases : reused_ ? 2 : 1;
         phase_count_ = phase_count;
         for (int k = 0; k < phase_count; ++k) {
@@ -631,8 +655,30 @@ public:
             ph.depth_target = depth_target;
             ph.reuse = reused_ ? k + 1 : shown && cull_pass ? 3 : 0;
             ph.shown = shown ? shown->buffer : 0;
+            ph.list = ph.reuse >= 2 && !compute_bounds_ ? shown->list : 0;
+            // (a reusing frame draws the set's list, compacted by the frame that tested it, without a cull pass)
+            ph.listed = ph.reuse == 1 && shown->listed && !compute_bounds_ ? shown : nullptr;
+            ph.fresh = k == 0 || (k == 1 && reused_ && ph_listed_first);
+            if (k == 0) ph_listed_first = ph.listed != nullptr;
             draw_phase(cam, light, opt, deferred, cull_pass, ph, viewport);
-            if (!ph.last()) earlier_phases_drawn_ += read_commands()[5 * render::variant_count];  // (the last phase's: `draw`)
+            if (!ph.last()) {
+                if (ph.listed)
+                    for (std::uint32_t n : ph.listed->counts) earlier_phases_drawn_ += n;
+                else
+                    earlier_phases_drawn_ += read_commands()[5 * render::variant_count];  // (the last phase's: `draw`)
+            }
+            listed_now = listed_now || ph.list != 0;
+        }
+        if (shown) {
+            // The list the test's results were compacted into: its counts, for the next frame
+            shown->listed = listed_now;
+            if (listed_now) {
+                std::uint32_t counts[5 * render::variant_count] = {};
+                gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, commands2_);
+                gl.GetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, sizeof counts, counts);
+                gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
+                for (int v = 0; v < render::variant_count; ++v) shown->counts[static_cast<std::size_t>(v)] = ranges_[v].second ? counts[5 * v] : 0u;
+            }
         }
         if (shown && !cull_pass && !(shown->valid && shown->all)) {  // (no cull pass: every record is drawn, so all count as shown)
             gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, shown->buffer);
@@ -727,7 +773,8 @@ public:
                     const Phase& ph, const GLint (&viewport)[4]) {
         const Api& gl = *api_;
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, planes_);  // (the bounds pass reads them too; a scene pass may have unbound them)
-        if (cull_pass) timed_cull([&] { run_cull_pass(cam, opt, viewport[2], viewport[3], ph); });
+        if (cull_pass && !ph.listed) timed_cull([&] { run_cull_pass(cam, opt, viewport[2], viewport[3], ph); });
+        const bool indirect = cull_pass && !ph.listed;
         // The bounding geometry (quads, tetrahedron faces) is a stand-in: the fragment stage
         // computes the depth and keeps only hits in [0, 1]. Without depth clamping GL would clip
         // the stand-in itself at the near and far planes, losing the visible part of a primitive
@@ -736,8 +783,8 @@ public:
         gl.BindVertexArray(vao_);
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, ssbo_);
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, planes_);
-        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, visible_);
-        if (cull_pass) {
+        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, ph.listed ? ph.listed->list : visible_);
+        if (indirect) {
             gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, depths_);
             if (compute_bounds_) {
                 gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, corners_);
@@ -754,29 +801,35 @@ public:
             gl.UseProgram(prog.id());
             set_uniforms(prog, cam, light, opt, viewport[2], viewport[3]);
             set_bound_uniforms(prog, variant, cam, opt);
-            gl.Uniform1i(prog.uniform_location("qc_indirect"), cull_pass ? 1 : 0);
-            gl.Uniform1i(prog.uniform_location("qc_fetch"), cull_pass && compute_bounds_ ? 1 : 0);
+            gl.Uniform1i(prog.uniform_location("qc_indirect"), cull_pass ? 1 : 0);  // (the visible list, or the shown set's)
+            gl.Uniform1i(prog.uniform_location("qc_fetch"), indirect && compute_bounds_ ? 1 : 0);
             // Not the planes variant unless all its patches show only inside their bounding balls
             // (a bilinear patch may reach out of its ball inside its quad), nor the sphere variant,
             // whose cast costs about what the test does (bench spheres: 0.85-0.99x).
-            const bool early = cull_pass && early_discard_ && (variant != render::Variant::planes || planes_in_ball_) && variant != render::Variant::sphere;
+            const bool early = indirect && early_discard_ && (variant != render::Variant::planes || planes_in_ball_) && variant != render::Variant::sphere;
             gl.Uniform1i(prog.uniform_location("qc_early"), early ? 1 : 0);
             gl.Uniform1i(prog.uniform_location("qc_depth_width"), viewport[2]);
+            const auto listed = static_cast<GLsizei>(ph.listed ? ph.listed->counts[static_cast<std::size_t>(v)] : 0u);
+            if (ph.listed && listed == 0) continue;
             if (points) {
                 // (the cull pass wrote a DrawArraysIndirectCommand: count, 1, first = qc_first, 0)
                 gl.Enable(GL_PROGRAM_POINT_SIZE);
-                if (cull_pass)
+                if (ph.listed)
+                    gl.DrawArrays(GL_POINTS, static_cast<GLint>(ranges_[v].first), listed);
+                else if (cull_pass)
                     gl.DrawArraysIndirect(GL_POINTS, reinterpret_cast<const void*>(static_cast<std::uintptr_t>(20 * v)));
                 else
                     gl.DrawArrays(GL_POINTS, 0, static_cast<GLsizei>(ranges_[v].second));
                 gl.Disable(GL_PROGRAM_POINT_SIZE);
+            } else if (ph.listed) {
+                gl.DrawElementsBaseVertex(GL_TRIANGLES, 6 * listed, GL_UNSIGNED_INT, nullptr, static_cast<GLint>(4 * ranges_[v].first));
             } else if (cull_pass) {
                 gl.DrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT, reinterpret_cast<const void*>(static_cast<std::uintptr_t>(20 * v)));
             } else {
                 gl.DrawElements(GL_TRIANGLES, static_cast<GLsizei>(6 * ranges_[v].second), GL_UNSIGNED_INT, nullptr);
             }
         }
-        if (cull_pass) gl.BindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
+        if (indirect) gl.BindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, 0);
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, 0);
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, 0);
@@ -824,7 +877,7 @@ private:
             upload(depths_, std::vector<std::uint32_t>(texels));
             depth_texels_ = texels;
         }
-        if (ph.first()) {
+        if (ph.fresh) {
             gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, depths_);
             const std::uint32_t none = 0xffffffffu;
             gl.ClearBufferData(GL_SHADER_STORAGE_BUFFER, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &none);
@@ -891,7 +944,7 @@ private:
                 cmds[5 * v + 3] = 4 * ranges_[v].first;  // DrawElementsIndirectCommand: count, instances, first index, base vertex, base instance
         }
         gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, commands_);
-        if (ph.first())
+        if (ph.fresh)
             gl.BufferData(GL_SHADER_STORAGE_BUFFER, sizeof cmds, cmds, GL_DYNAMIC_DRAW);
         else
             gl.BufferSubData(GL_SHADER_STORAGE_BUFFER, 0, 5 * render::variant_count * sizeof(std::uint32_t), cmds);
@@ -905,6 +958,7 @@ private:
         }
         if (group_total > group_capacity_) {
             upload(groups_, std::vector<std::uint32_t>(group_total));
+            upload(groups2_, std::vector<std::uint32_t>(group_total));
             group_capacity_ = group_total;
         }
         // (a program for the bounding-sphere rectangle, which reads no record, and one for the others)
@@ -920,6 +974,7 @@ private:
                 common(cull);
                 gl.Uniform1ui(cull.uniform_location("qc_stats_at"), static_cast<GLuint>(5 * render::variant_count));
                 gl.Uniform1i(cull.uniform_location("qc_reuse"), ph.reuse);
+                gl.Uniform1i(cull.uniform_location("qc_list"), ph.list != 0 ? 1 : 0);
                 set_pyramid_uniforms(gl, cull, levels);
                 used = &cull;
             }
@@ -935,6 +990,9 @@ private:
             gl.Uniform1i(cull.uniform_location("qc_window_first"), ph.first() ? 1 : 0);
             gl.Uniform1i(cull.uniform_location("qc_window_last"), ph.last() ? 1 : 0);
             gl.BindBufferRange(GL_SHADER_STORAGE_BUFFER, 7, groups_, static_cast<GLintptr>(group_base[v] * sizeof(std::uint32_t)),
+                               static_cast<GLsizeiptr>(groups(ranges_[v].second, 64) * sizeof(std::uint32_t)));
+            gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 11, keep2_);
+            gl.BindBufferRange(GL_SHADER_STORAGE_BUFFER, 12, groups2_, static_cast<GLintptr>(group_base[v] * sizeof(std::uint32_t)),
                                static_cast<GLsizeiptr>(groups(ranges_[v].second, 64) * sizeof(std::uint32_t)));
             dispatch_rows(gl, groups(ranges_[v].second, 64));
         }
@@ -971,6 +1029,32 @@ private:
             gl.Uniform1ui(compact.uniform_location("qc_count"), ranges_[v].second);
             dispatch_rows(gl, groups(ranges_[v].second, 64));
         }
+        // 5'. With ph.list: the new shown set's records, the same way, into its list (their counts
+        // per variant into commands2_, which `draw_primitives` reads back for the next frame).
+        if (ph.list) {
+            gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+            gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, ph.list);
+            gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, commands2_);
+            gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, keep2_);
+            for (int v = 0; v < render::variant_count; ++v) {
+                if (!runs(v)) continue;
+                gl.BindBufferRange(GL_SHADER_STORAGE_BUFFER, 7, groups2_, static_cast<GLintptr>(group_base[v] * sizeof(std::uint32_t)),
+                                   static_cast<GLsizeiptr>(groups(ranges_[v].second, 64) * sizeof(std::uint32_t)));
+                gl.UseProgram(scan.id());
+                gl.Uniform1ui(scan.uniform_location("qc_group_count"), groups(ranges_[v].second, 64));
+                gl.Uniform1ui(scan.uniform_location("qc_per_kept"), 1u);
+                gl.Uniform1ui(scan.uniform_location("qc_command_at"), static_cast<GLuint>(5 * v));
+                gl.DispatchCompute(1, 1, 1);
+                gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+                gl.UseProgram(compact.id());
+                gl.Uniform1ui(compact.uniform_location("qc_first"), ranges_[v].first);
+                gl.Uniform1ui(compact.uniform_location("qc_count"), ranges_[v].second);
+                dispatch_rows(gl, groups(ranges_[v].second, 64));
+            }
+            gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, visible_);
+            gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, commands_);
+            gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, keep_);
+        }
         // 6. With compute bounds, per variant one invocation per slot of its visible list (those
         // beyond its count return at once).
         if (compute_bounds_) {
@@ -988,7 +1072,7 @@ private:
             }
         }
         gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
-        for (int b = 2; b <= 9; ++b) gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, static_cast<GLuint>(b), 0);
+        for (int b = 2; b <= 12; ++b) gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, static_cast<GLuint>(b), 0);
     }
 
     /// The uniforms of a variant's bounding geometry and per-quadric culling, the same for its
@@ -1168,6 +1252,7 @@ private:
     GLuint sfbo_ = 0, stex_ = 0;             ///< shadow map
     GLuint etex_ = 0;                        ///< environment map
     GLuint occluders_ = 0, depths_ = 0, visible_ = 0, commands_ = 0, keep_ = 0, groups_ = 0;  ///< occlusion culling
+    GLuint keep2_ = 0, groups2_ = 0, commands2_ = 0;  ///< the shown set's flags, workgroup counts and per-variant counts for its list
     GLuint corners_ = 0, nearests_ = 0;  ///< per slot of the visible list: 4 clip positions, the nearest distance
     std::size_t bounds_capacity_ = 0;    ///< slots corners_ and nearests_ hold
     std::uint32_t group_capacity_ = 0;
@@ -1180,11 +1265,6 @@ private:
     /// RenderOptions::occlusion_reuse: per depth target (the camera's, the shadow map's) whether
     /// each record passed its last test against what was drawn (`shown_`), and whether that is
     /// valid for the current records and that target.
-    struct ShownSet {
-        GLuint buffer = 0, target = 0;
-        bool valid = false;
-        bool all = false;  ///< every record marked shown (frames without a cull pass need not mark them again)
-    };
     ShownSet shown_[2];
     int next_shown_ = 0;
     bool reused_ = false;  ///< the last `draw_primitives` drew the last frame's shown set first

@@ -644,7 +644,12 @@ Stage cull_shader(bool sphere_bound) {
          "// first phase's depth, shown = the result, kept only if it was not shown (the first drew it);\n"
          "// 3: a frame drawn without reuse, shown = kept.\n"
          "layout(std430, binding = 10) buffer qc_Shown { uint qc_shown[]; };\n"
-         "uniform int qc_reuse;\n\n"
+         "uniform int qc_reuse;\n"
+         "// With qc_list (qc_reuse 2 or 3): the new shown set's flags as the kept ones' (qc_keep2, qc_groups2),\n"
+         "// for its list (the scan and compaction passes), which the next frame draws first without a cull pass.\n"
+         "layout(std430, binding = 11) writeonly buffer qc_Keep2 { uint qc_keep2[]; };\n"
+         "layout(std430, binding = 12) writeonly buffer qc_Groups2 { uint qc_groups2[]; };\n"
+         "uniform bool qc_list;\n\n"
       << fns.str() << detail::pyramid_farthest_glsl(8, true)
       << "// Counts a culled record (0: outside the view, 1: behind the occluders); with reuse only in the\n"
          "// second phase, and only the records the first did not draw (`shown`).\n"
@@ -682,7 +687,7 @@ Stage cull_shader(bool sphere_bound) {
          "    }\n"
          "    return true;\n"
          "}\n\n"
-         "shared uint qc_flags[64];\n\n"
+         "shared uint qc_flags[64];\nshared uint qc_flags2[64];\n\n"
          "void main()\n{\n"
          "    uint t = gl_LocalInvocationID.x;\n"
          "    uint group = qc_linear_group();\n"
@@ -693,8 +698,9 @@ Stage cull_shader(bool sphere_bound) {
          "    // (the first phase of a reuse tests only the shown records)\n"
          "    bool kept = inside && (qc_reuse != 1 || shown) && qc_kept(prim, shown);\n"
          "    if (inside && qc_reuse >= 2) qc_shown[prim] = kept ? 1u : 0u;\n"
+         "    bool listed = kept && qc_reuse >= 2;\n"
          "    if (qc_reuse == 2) kept = kept && !shown;  // (the first phase drew it)\n"
-      << detail::keep_flags_glsl("prim") << "}\n";
+      << detail::keep_flags_glsl("prim", true) << "}\n";
     s.text = m.str();
     return s;
 }
