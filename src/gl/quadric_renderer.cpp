@@ -551,9 +551,8 @@ public:
         return cuts;
     }
 
-    /// The phase of a cull pass: its index of `count`, and the window [lo, hi) of nearest view
-    /// distances of the planes primitives it keeps (the first phase from -infinity, the last to
-    /// +infinity); a single phase keeps all. `depth_target`: the depth texture the draws write.
+    /// A depth target's shown set (RenderOptions::occlusion_reuse): per record whether it passed
+    /// the last test against what was drawn, and those records as a list.
     struct ShownSet {
         GLuint buffer = 0, target = 0;
         bool valid = false;
@@ -562,6 +561,9 @@ public:
         std::array<std::uint32_t, render::variant_count> counts{};  ///< per variant the shown records in `list`
         bool listed = false;  ///< `list` and `counts` hold the set (compacted by the frame that tested it)
     };
+    /// The phase of a cull pass: its index of `count`, and the window [lo, hi) of nearest view
+    /// distances of the planes primitives it keeps (the first phase from -infinity, the last to
+    /// +infinity); a single phase keeps all. `depth_target`: the depth texture the draws write.
     struct Phase {
         int index = 0, count = 1;
         float lo = 0.0f, hi = 0.0f;
@@ -643,7 +645,7 @@ public:
         cull_pass_ran_ = cull_pass;
         const std::vector<float> cuts = phased ? phase_cuts(cam, phases, viewport[2], viewport[3]) : std::vector<float>{};
         earlier_phases_drawn_ = 0;
-        bool ph_listed_first = false, listed_now = false;
+        bool culled_before = false, listed_now = false;  // (a cull pass ran in an earlier phase; a list was compacted)
         const int phase_count = phased ? phases : reused_ ? 2 : 1;
         phase_count_ = phase_count;
         for (int k = 0; k < phase_count; ++k) {
@@ -658,8 +660,8 @@ public:
             ph.list = ph.reuse >= 2 && !compute_bounds_ ? shown->list : 0;
             // (a reusing frame draws the set's list, compacted by the frame that tested it, without a cull pass)
             ph.listed = ph.reuse == 1 && shown->listed && !compute_bounds_ ? shown : nullptr;
-            ph.fresh = k == 0 || (k == 1 && reused_ && ph_listed_first);
-            if (k == 0) ph_listed_first = ph.listed != nullptr;
+            ph.fresh = !culled_before;
+            culled_before = culled_before || (cull_pass && !ph.listed);
             draw_phase(cam, light, opt, deferred, cull_pass, ph, viewport);
             if (!ph.last()) {
                 if (ph.listed)
@@ -796,6 +798,8 @@ public:
             if (ranges_[v].second == 0) continue;
             const auto variant = static_cast<render::Variant>(v);
             if (!ph.first() && !phased_variant(variant) && ph.reuse != 2) continue;  // (drawn in the first phase)
+            const auto listed = static_cast<GLsizei>(ph.listed ? ph.listed->counts[static_cast<std::size_t>(v)] : 0u);
+            if (ph.listed && listed == 0) continue;
             const bool points = points_ && variant == render::Variant::sphere;
             const Program& prog = program(variant, opt.culling, cam.orthographic, deferred, opt.environment != nullptr, points);
             gl.UseProgram(prog.id());
@@ -809,8 +813,6 @@ public:
             const bool early = indirect && early_discard_ && (variant != render::Variant::planes || planes_in_ball_) && variant != render::Variant::sphere;
             gl.Uniform1i(prog.uniform_location("qc_early"), early ? 1 : 0);
             gl.Uniform1i(prog.uniform_location("qc_depth_width"), viewport[2]);
-            const auto listed = static_cast<GLsizei>(ph.listed ? ph.listed->counts[static_cast<std::size_t>(v)] : 0u);
-            if (ph.listed && listed == 0) continue;
             if (points) {
                 // (the cull pass wrote a DrawArraysIndirectCommand: count, 1, first = qc_first, 0)
                 gl.Enable(GL_PROGRAM_POINT_SIZE);
@@ -1013,36 +1015,15 @@ private:
             gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, corners_);
             gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 9, nearests_);
         }
-        for (int v = 0; v < render::variant_count; ++v) {
-            if (!runs(v)) continue;
-            const GLintptr at = static_cast<GLintptr>(group_base[v] * sizeof(std::uint32_t));
-            const GLsizeiptr size = static_cast<GLsizeiptr>(groups(ranges_[v].second, 64) * sizeof(std::uint32_t));
-            gl.BindBufferRange(GL_SHADER_STORAGE_BUFFER, 7, groups_, at, size);
-            gl.UseProgram(scan.id());
-            gl.Uniform1ui(scan.uniform_location("qc_group_count"), groups(ranges_[v].second, 64));
-            gl.Uniform1ui(scan.uniform_location("qc_per_kept"), per_kept(static_cast<render::Variant>(v)));
-            gl.Uniform1ui(scan.uniform_location("qc_command_at"), static_cast<GLuint>(5 * v));
-            gl.DispatchCompute(1, 1, 1);
-            gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-            gl.UseProgram(compact.id());
-            gl.Uniform1ui(compact.uniform_location("qc_first"), ranges_[v].first);
-            gl.Uniform1ui(compact.uniform_location("qc_count"), ranges_[v].second);
-            dispatch_rows(gl, groups(ranges_[v].second, 64));
-        }
-        // 5'. With ph.list: the new shown set's records, the same way, into its list (their counts
-        // per variant into commands2_, which `draw_primitives` reads back for the next frame).
-        if (ph.list) {
-            gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-            gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, ph.list);
-            gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, commands2_);
-            gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, keep2_);
+        // (the workgroup counts in `groups_of`, the flags bound at 6, the list at 4, the commands at 5)
+        auto scan_and_compact = [&](GLuint groups_of, bool records) {
             for (int v = 0; v < render::variant_count; ++v) {
                 if (!runs(v)) continue;
-                gl.BindBufferRange(GL_SHADER_STORAGE_BUFFER, 7, groups2_, static_cast<GLintptr>(group_base[v] * sizeof(std::uint32_t)),
+                gl.BindBufferRange(GL_SHADER_STORAGE_BUFFER, 7, groups_of, static_cast<GLintptr>(group_base[v] * sizeof(std::uint32_t)),
                                    static_cast<GLsizeiptr>(groups(ranges_[v].second, 64) * sizeof(std::uint32_t)));
                 gl.UseProgram(scan.id());
                 gl.Uniform1ui(scan.uniform_location("qc_group_count"), groups(ranges_[v].second, 64));
-                gl.Uniform1ui(scan.uniform_location("qc_per_kept"), 1u);
+                gl.Uniform1ui(scan.uniform_location("qc_per_kept"), records ? 1u : per_kept(static_cast<render::Variant>(v)));
                 gl.Uniform1ui(scan.uniform_location("qc_command_at"), static_cast<GLuint>(5 * v));
                 gl.DispatchCompute(1, 1, 1);
                 gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
@@ -1051,6 +1032,16 @@ private:
                 gl.Uniform1ui(compact.uniform_location("qc_count"), ranges_[v].second);
                 dispatch_rows(gl, groups(ranges_[v].second, 64));
             }
+        };
+        scan_and_compact(groups_, false);
+        // 5'. With ph.list: the new shown set's records, the same way, into its list (their counts
+        // per variant into commands2_, which `draw_primitives` reads back for the next frame).
+        if (ph.list) {
+            gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+            gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, ph.list);
+            gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, commands2_);
+            gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, keep2_);
+            scan_and_compact(groups2_, true);
             gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, visible_);
             gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, commands_);
             gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, keep_);
@@ -1307,7 +1298,7 @@ private:
     Vec3<float> sphere_lo_{}, sphere_hi_{};  ///< the box of the sphere variant's centres (empty: lo > hi)
     float sphere_radius_ = 0.0f;             ///< its largest radius
     static constexpr std::size_t each_sphere_limit = 32768;  ///< spheres tested one by one where their box does not fit (`sprites_fit`)
-    std::vector<std::array<float, 4>> each_sphere_;  ///< their centres and radii (more than the limit: not kept)
+    std::vector<std::array<float, 4>> each_sphere_;  ///< their centres and radii (collected up to one more than the limit: more are not tested)
     std::vector<float> each_sphere_key_;             ///< the camera and viewport of `each_sphere_fit_`
     bool each_sphere_fit_ = false;
     bool occluders_in_depth_ = false;  ///< `rasterise_occluders` drew into the depth target of the next `draw_primitives`

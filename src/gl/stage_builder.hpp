@@ -130,33 +130,21 @@ inline std::string pyramid_farthest_glsl(unsigned span, bool behind = false) {
 /// into qc_groups[group] and per record qc_keep[`record`] = 0 (culled) or 1 + the kept records
 /// before it in the workgroup (the compaction's slot).
 inline std::string keep_flags_glsl(const std::string& record, bool listed = false) {
-    if (!listed)
-        return "    qc_flags[t] = kept ? 1u : 0u;\n"
-               "    barrier();\n"
-               "    if (t == 0u) {  // exclusive prefix sum of the workgroup's flags, and its count\n"
-               "        uint run = 0u;\n"
-               "        for (uint r = 0u; r < 64u; ++r) { uint f = qc_flags[r]; qc_flags[r] = run; run += f; }\n"
-               "        qc_groups[group] = run;\n"
-               "    }\n"
-               "    barrier();\n"
-               "    if (inside) qc_keep[" + record + "] = kept ? qc_flags[t] + 1u : 0u;  // 1 + the kept records before it in the workgroup\n";
-    // (and the same for `listed` into qc_flags2, qc_groups2 and qc_keep2 where qc_list)
-    return "    qc_flags[t] = kept ? 1u : 0u;\n"
-           "    qc_flags2[t] = listed ? 1u : 0u;\n"
+    // With `listed`, the same for the bool `listed` into qc_flags2, qc_groups2 and qc_keep2 where qc_list.
+    const auto two = [&](const std::string& line) { return listed ? line : std::string(); };
+    return "    qc_flags[t] = kept ? 1u : 0u;\n" + two("    qc_flags2[t] = listed ? 1u : 0u;\n") +
            "    barrier();\n"
            "    if (t == 0u) {  // exclusive prefix sums of the workgroup's flags, and its counts\n"
-           "        uint run = 0u, run2 = 0u;\n"
+           "        uint run = 0u;\n" + two("        uint run2 = 0u;\n") +
            "        for (uint r = 0u; r < 64u; ++r) {\n"
-           "            uint f = qc_flags[r], f2 = qc_flags2[r];\n"
-           "            qc_flags[r] = run;\n            qc_flags2[r] = run2;\n"
-           "            run += f;\n            run2 += f2;\n"
+           "            uint f = qc_flags[r];\n            qc_flags[r] = run;\n            run += f;\n" +
+           two("            uint f2 = qc_flags2[r];\n            qc_flags2[r] = run2;\n            run2 += f2;\n") +
            "        }\n"
-           "        qc_groups[group] = run;\n"
-           "        if (qc_list) qc_groups2[group] = run2;\n"
+           "        qc_groups[group] = run;\n" + two("        if (qc_list) qc_groups2[group] = run2;\n") +
            "    }\n"
            "    barrier();\n"
-           "    if (inside) qc_keep[" + record + "] = kept ? qc_flags[t] + 1u : 0u;  // 1 + the kept records before it in the workgroup\n"
-           "    if (inside && qc_list) qc_keep2[" + record + "] = listed ? qc_flags2[t] + 1u : 0u;\n";
+           "    if (inside) qc_keep[" + record + "] = kept ? qc_flags[t] + 1u : 0u;  // 1 + the kept records before it in the workgroup\n" +
+           two("    if (inside && qc_list) qc_keep2[" + record + "] = listed ? qc_flags2[t] + 1u : 0u;\n");
 }
 
 }  // namespace quadcast::gl::detail

@@ -197,6 +197,13 @@ Stage sphere_vertex_shader(bool ortho, bool points) {
     add_kernel(s, fns, "clip_position");
     add_kernel(s, fns, "nearest_distance");
     if (points) add_kernel(s, fns, "point_sprite");
+    // (both vertex stages: the record of `prim` and the varyings the fragment stage reads instead of it)
+    const char* sphere_varyings =
+        "    qc_Primitive p = qc_prims[prim];\n"
+        "    qc_radius = qc_record_radius(p);\n"
+        "    qc_center = qc_record_center(p);\n"
+        "    qc_prim_color = qc_record_color(p);\n"
+        "    qc_prim_material = qc_record_material(p);\n";
     std::ostringstream m;
     m << record_glsl;
     m << bound_uniforms << "\n"
@@ -212,12 +219,7 @@ Stage sphere_vertex_shader(bool ortho, bool points) {
              "void main()\n{\n"
              "    uint slot = uint(gl_VertexID);\n"
              "    uint prim = qc_indirect ? qc_visible[slot] : qc_first + slot;\n"
-             "    qc_Primitive p = qc_prims[prim];\n"
-             "    qc_radius = qc_record_radius(p);\n"
-             "    qc_center = qc_record_center(p);\n"
-             "    qc_prim_color = qc_record_color(p);\n"
-             "    qc_prim_material = qc_record_material(p);\n"
-          << bound_glsl(proj, false, true)
+          << sphere_varyings << bound_glsl(proj, false, true)
           << "    qc_nearest_distance(qc_vz_row, qc_vz_t, qc_record_center(p), qc_record_radius(p), qc_nearest);\n"
              "    vec2 centre;\n    float size;\n"
              "    qc_point_sprite(clips[0], clips[1], clips[2], clips[3], qc_viewport, centre, size);\n"
@@ -234,11 +236,7 @@ Stage sphere_vertex_shader(bool ortho, bool points) {
          "    uint slot = uint(gl_VertexID) / 4u;\n"
          "    uint prim = qc_indirect ? qc_visible[slot] : qc_first + slot;\n"
          "    int k = gl_VertexID % 4;\n"
-         "    qc_Primitive p = qc_prims[prim];\n"
-         "    qc_radius = qc_record_radius(p);\n"
-         "    qc_center = qc_record_center(p);\n"
-         "    qc_prim_color = qc_record_color(p);\n"
-         "    qc_prim_material = qc_record_material(p);\n"
+      << sphere_varyings <<
          "    if (qc_fetch) {\n"
          "        qc_nearest = qc_nearests[slot];\n"
          "        gl_Position = qc_corner[4u * slot + uint(k)];\n"
