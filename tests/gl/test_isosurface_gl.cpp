@@ -419,19 +419,39 @@ TEST_CASE("the compute pre-pass of the coefficients draws the vertex stage's ima
             o.width = 160;
             o.height = 128;
             const Camera cam = camera(ortho);
-            iso.set_coefficient_stage(gl::IsosurfaceRenderer::CoefficientStage::vertex);
+            using Stage = gl::IsosurfaceRenderer::CoefficientStage;
+            iso.set_coefficient_stage(Stage::vertex);
             qr.draw(cam, light, o);
+            CHECK_FALSE(iso.stats(0).pre_pass);
             const Image a = qr.read();
-            iso.set_coefficient_stage(gl::IsosurfaceRenderer::CoefficientStage::compute);
+            iso.set_coefficient_stage(Stage::compute);
             qr.draw(cam, light, o);
+            CHECK(iso.stats(0).pre_pass);
             const Image b = qr.read();
+            // The default: the pre-pass for S31 (its list is far below the budget), the vertex stage for QSS
+            iso.set_coefficient_stage(Stage::automatic);
+            qr.draw(cam, light, o);
+            CHECK(iso.stats(0).pre_pass == (s == VolumeScheme::s31));
+            const std::size_t bytes = iso.stats(0).elements * 20 * sizeof(float);
+            CHECK(bytes <= iso.pre_pass_budget());
+            const Image c = qr.read();
+            // Above the budget, the vertex stage
+            iso.set_pre_pass_budget(bytes - 1);
+            qr.draw(cam, light, o);
+            CHECK_FALSE(iso.stats(0).pre_pass);
+            iso.set_pre_pass_budget(bytes);
+            qr.draw(cam, light, o);
+            CHECK(iso.stats(0).pre_pass == (s == VolumeScheme::s31));
+            CHECK(qr.read().rgba == a.rgba);
             long covered = 0;
             for (float d : a.depth) covered += d < 1.0f;
             std::printf("[iso gl] compute pre-pass, %s %s: %ld covered px, images %s\n", volume_scheme_name(s), ortho ? "orthographic" : "perspective",
-                        covered, a.rgba == b.rgba && a.depth == b.depth ? "identical" : "DIFFER");
+                        covered, a.rgba == b.rgba && a.depth == b.depth && a.rgba == c.rgba && a.depth == c.depth ? "identical" : "DIFFER");
             CHECK(covered > 3000);
             CHECK(a.rgba == b.rgba);
             CHECK(a.depth == b.depth);
+            CHECK(a.rgba == c.rgba);
+            CHECK(a.depth == c.depth);
         }
     }
 }

@@ -209,8 +209,8 @@ void run(const IsoBenchOptions& a) {
     o.width = a.width;
     o.height = a.height;
 
-    std::printf("%-10s %10s %12s %14s %12s %14s %16s %16s %12s %10s\n", "scheme", "prep ms", "active cubes", "elements", "GL ms", "GL pre-pass", "GL no reuse",
-                "GL no occlusion", "CPU ms", "CPU/GL");
+    std::printf("%-10s %10s %12s %14s %12s %7s %14s %14s %16s %16s %12s %10s\n", "scheme", "prep ms", "active cubes", "elements", "GL ms", "coeffs", "GL vertex",
+                "GL pre-pass", "GL no reuse", "GL no occlusion", "CPU ms", "CPU/GL");
     const render::VolumeScheme schemes[3] = {render::VolumeScheme::qss, render::VolumeScheme::s31, render::VolumeScheme::trilinear};
     std::vector<render::VolumeModel> models;
     models.reserve(3);
@@ -223,24 +223,28 @@ void run(const IsoBenchOptions& a) {
         gl.iso.clear();
         gl.iso.add_volume(m);
         using Stage = gl::IsosurfaceRenderer::CoefficientStage;
-        gl.iso.set_coefficient_stage(Stage::compute);
-        gl.frame(cam, light, o);  // warm-up: compiles the programs
-        gl.iso.set_coefficient_stage(Stage::vertex);
-        gl.frame(cam, light, o);
+        for (Stage st : {Stage::compute, Stage::vertex, Stage::automatic}) {  // warm-up: compiles the programs
+            gl.iso.set_coefficient_stage(st);
+            gl.frame(cam, light, o);
+        }
         render::RenderOptions no_occl = o, no_reuse = o;
         no_occl.occlusion_culling = false;
         no_reuse.occlusion_reuse = false;
-        std::vector<double> g, gc, gn, gr, c;
+        std::vector<double> g, gv, gc, gn, gr, c;
+        bool pre = false;
         for (int i = 0; i < a.frames; ++i) {
-            gl.iso.set_coefficient_stage(Stage::vertex);
+            gl.iso.set_coefficient_stage(Stage::automatic);
             g.push_back(gl.frame(cam, light, o));
+            pre = gl.iso.stats(0).pre_pass;
             gn.push_back(gl.frame(cam, light, no_occl));
             gr.push_back(gl.frame(cam, light, no_reuse));
             if (s == render::VolumeScheme::trilinear) continue;
+            gl.iso.set_coefficient_stage(Stage::vertex);
+            gv.push_back(gl.frame(cam, light, o));
             gl.iso.set_coefficient_stage(Stage::compute);
             gc.push_back(gl.frame(cam, light, o));
         }
-        gl.iso.set_coefficient_stage(Stage::vertex);
+        gl.iso.set_coefficient_stage(Stage::automatic);
         for (int i = 0; i < a.cpu_frames; ++i) {
             const auto t1 = std::chrono::steady_clock::now();
             const render::Image img = render::render_volumes_cpu({&m}, cam, light, o);
@@ -252,12 +256,13 @@ void run(const IsoBenchOptions& a) {
             render::write_png(stem + "_cpu.png", render::render_volumes_cpu({&m}, cam, light, o));
         }
         const gl::IsoDrawStats& st = gl.iso.stats(0);
-        char pre[32] = "-", nocc[32] = "-", noreuse[32] = "-";
-        if (!gc.empty()) std::snprintf(pre, sizeof pre, "%.1f (%.2fx)", median(gc), median(g) / median(gc));
+        char vert[32] = "-", prepass[32] = "-", nocc[32] = "-", noreuse[32] = "-";
+        if (!gv.empty()) std::snprintf(vert, sizeof vert, "%.1f (%.2fx)", median(gv), median(gv) / median(g));
+        if (!gc.empty()) std::snprintf(prepass, sizeof prepass, "%.1f (%.2fx)", median(gc), median(gc) / median(g));
         if (!gn.empty()) std::snprintf(nocc, sizeof nocc, "%.1f (%.2fx)", median(gn), median(gn) / median(g));
         std::snprintf(noreuse, sizeof noreuse, "%.1f (%.2fx)", median(gr), median(gr) / median(g));
-        std::printf("%-10s %10.0f %12zu %14zu %12.1f %14s %16s %16s %12.1f %9.1fx\n", render::volume_scheme_name(s), prep, m.active, st.elements, median(g), pre,
-                    noreuse, nocc, median(c), median(c) / median(g));
+        std::printf("%-10s %10.0f %12zu %14zu %12.1f %7s %14s %14s %16s %16s %12.1f %9.1fx\n", render::volume_scheme_name(s), prep, m.active, st.elements, median(g),
+                    s == render::VolumeScheme::trilinear ? "-" : pre ? "pre" : "vertex", vert, prepass, noreuse, nocc, median(c), median(c) / median(g));
     }
 
     std::printf("\nWhat is skipped (QSS; cubes of the whole grid; frame times interleaved, ratios to all culling on):\n");
@@ -311,8 +316,10 @@ void run(const IsoBenchOptions& a) {
         (void)nofr;
     }
     compare_qss_methods(gl, m, light, o, a);
-    std::printf("\n(GL ms: coefficients averaged in the vertex stage, the last frame's shown set drawn first (RenderOptions::occlusion_reuse);\n"
-                " GL pre-pass: in a compute pre-pass, and the speed-up; GL no reuse: occlusion culling in phases only, and its ratio)\n");
+    std::printf("\n(GL ms: the renderer's defaults, the last frame's shown set drawn first (RenderOptions::occlusion_reuse), the coefficients where\n"
+                " CoefficientStage::automatic puts them ('coeffs': averaged in the vertex stage, or in the compute pre-pass); GL vertex, GL pre-pass:\n"
+                " the coefficients always in the one or the other, and the ratio to GL ms (> 1: the default is faster); GL no reuse: occlusion\n"
+                " culling in phases only, and its ratio)\n");
     std::printf("(range has rho: the octree keeps the cubes whose coefficient range contains the isovalue; in frustum: of these, the ones\n"
                 " whose box is not outside the view; tets drawn: relevant tetrahedra of those cubes; tets (GPU): the relevant tetrahedra the GPU\n"
                 " element list keeps (each cube's box tested on the GPU); no test: all 24 per cube; GPU list: the frame with the element list\n"

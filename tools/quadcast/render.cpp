@@ -359,6 +359,8 @@ int run_render(const RenderArgs& a) {
                             render::volume_scheme_name(volumes[i].scheme), s.active, s.visible, s.elements, s.relevant,
                             volumes[i].scheme == render::VolumeScheme::trilinear ? "cells" : "relevant tetrahedra", s.phases);
                 if (s.phases > 1) std::printf(", %zu of them culled behind the earlier phases%s", s.occluded, s.reused ? " (the first: the last frame's shown set)" : "");
+                if (volumes[i].scheme != render::VolumeScheme::trilinear)
+                    std::printf(", coefficients %s", s.pre_pass ? "from the compute pre-pass" : "averaged in the vertex stage");
                 std::printf("\n");
             }
         }

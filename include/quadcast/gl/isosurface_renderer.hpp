@@ -50,6 +50,7 @@ struct IsoDrawStats {
     int phases = 0;                  ///< phases drawn (occlusion culling: each later one tested against the earlier ones' depth)
     std::size_t occluded = 0;        ///< elements of the later phases culled behind the earlier ones
     bool reused = false;             ///< the last frame's shown set was drawn first (RenderOptions::occlusion_reuse)
+    bool pre_pass = false;           ///< the coefficients came from the compute pre-pass (IsosurfaceRenderer::CoefficientStage)
 };
 
 /// Draws the isosurfaces of prepared volumes (`render::prepare_volume`, with or without CPU
@@ -82,10 +83,23 @@ public:
     }
 
     /// Where a tetrahedron's BB-coefficients are rebuilt from the determining set: in the vertex
-    /// stage, once per vertex (the paper's way, default), or in a compute pre-pass once per drawn
+    /// stage, once per vertex (the paper's way), or in a compute pre-pass once per drawn
     /// tetrahedron into a storage buffer the vertex stage reads (same traced averaging, same
-    /// numbers; llvmpipe runs vertex shaders on one thread but compute shaders on all).
-    enum class CoefficientStage { vertex, compute };
+    /// numbers; llvmpipe runs vertex shaders on one thread but compute shaders on all), or
+    /// `automatic` (the default): the pre-pass for S31 lists whose coefficients fit in the
+    /// pre-pass budget (`set_pre_pass_budget`), the vertex stage otherwise. Why (`quadcast bench isosurfaces`
+    /// and `render --frames`, 1024x768, frames interleaved): the pre-pass made CGAL's skull S31
+    /// frame 1.11x faster (S31 averages 56 values into 20 per vertex), and QSS (10 from 23) gained
+    /// nothing measurable; on the liver (S31, several million tetrahedra drawn) it gained 1.07-1.13x
+    /// but raised the process's peak memory from 0.97 to 1.7 GB.
+    enum class CoefficientStage { vertex, compute, automatic };
+    /// The largest coefficient buffer `CoefficientStage::automatic` uses the pre-pass for, in bytes
+    /// (default 64 MiB: 838,860 S31 tetrahedra of 20 floats).
+    void set_pre_pass_budget(std::size_t bytes) {
+        pre_pass_budget_ = bytes;
+        ++revision_;
+    }
+    std::size_t pre_pass_budget() const { return pre_pass_budget_; }
     void set_coefficient_stage(CoefficientStage s) {
         coeff_stage_ = s;
         ++revision_;
@@ -473,6 +487,13 @@ private:
         return true;
     }
 
+    /// Whether a list of n elements of `m` gets its coefficients from the compute pre-pass.
+    bool uses_pre_pass(const render::VolumeModel& m, std::size_t n) const {
+        if (m.scheme == render::VolumeScheme::trilinear || coeff_stage_ == CoefficientStage::vertex) return false;
+        if (coeff_stage_ == CoefficientStage::compute) return true;
+        return m.degree() == 3 && n * static_cast<std::size_t>(bb::coefficient_count(3)) * sizeof(float) <= pre_pass_budget_;
+    }
+
     void draw_volume(Volume& v, const render::Camera& cam, const render::Light& light, const render::RenderOptions& opt, bool gbuffer) {
         const Api& gl = *api_;
         const render::VolumeModel& m = *v.model;
@@ -502,7 +523,7 @@ private:
         gl.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, v.indices);
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, element_list_ == ElementList::gpu ? v.listed : v.elements);
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, v.data);
-        const bool pre = coeff_stage_ == CoefficientStage::compute && !tri;
+        const bool pre = uses_pre_pass(m, n);
         if (pre) {
             if (n > v.coeff_capacity) {
                 const std::size_t nc = static_cast<std::size_t>(bb::coefficient_count(m.degree()));
@@ -552,6 +573,7 @@ private:
         v.stats.phases = 0;
         v.stats.occluded = 0;
         v.stats.reused = reuse;
+        v.stats.pre_pass = pre;
         const GLuint list = element_list_ == ElementList::gpu ? v.listed : v.elements;
         // The bound pass over the whole list, against the depth drawn so far, only recording which
         // elements pass (the shown set) where `draw_from` is n, or keeping those from `draw_from` on.
@@ -808,7 +830,8 @@ private:
     std::vector<Volume> volumes_;
     GeneratedPrograms programs_{*api_, "quadcast::gl::IsosurfaceRenderer"};
     bool frustum_culling_ = true, tet_culling_ = true;
-    CoefficientStage coeff_stage_ = CoefficientStage::vertex;
+    CoefficientStage coeff_stage_ = CoefficientStage::automatic;
+    std::size_t pre_pass_budget_ = std::size_t(64) << 20;
     ElementList element_list_ = ElementList::cpu;
     std::uint64_t revision_ = 1;
     /// The occlusion test's copy of the depth buffer, and the texture unit it is read from.
