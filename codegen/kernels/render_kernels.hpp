@@ -431,52 +431,61 @@ struct SilhouetteKernel {
 };
 
 
-/// Soft shadows: the lit fraction of the first 8 PCF samples and whether they agree (`pcf_first8`).
-struct PcfFirst8Kernel {
-    static constexpr const char* name = "pcf_first8";
-    static constexpr const char* source = "quadcast::pcf_first8 (quadcast/shading.hpp)";
-    static constexpr const char* summary = "percentage-closer filtering, 8-sample penumbra test (Sigg et al. 2006, sec. 4)";
+/// Soft shadows: the lit fraction of the first 8 PCF samples and whether they agree, from their
+/// count (`pcf_first8_from_count`).
+struct PcfFirst8FromCountKernel {
+    static constexpr const char* name = "pcf_first8_from_count";
+    static constexpr const char* source = "quadcast::pcf_first8_from_count (quadcast/shading.hpp)";
+    static constexpr const char* summary = "percentage-closer filtering, 8-sample penumbra test from the count of lit samples (Sigg et al. 2006, sec. 4)";
     template <class IO> static void run(IO& io) {
         using T = typename IO::T;
-        const T z = io.scalar("z"), bias = io.scalar("bias");
-        T s[8];
-        for (int i = 0; i < 8; ++i) s[i] = io.scalar("s" + std::to_string(i));
-        const PcfFirst<T> f = pcf_first8(z, bias, s);
+        const PcfFirst<T> f = pcf_first8_from_count(io.scalar("count8"));
         io.out("lit", f.lit);
         io.out("decided", f.decided);
     }
     static void generate(std::mt19937& rng, std::span<float> in) {
         std::size_t p = 0;
-        const float z = uniform(rng, 0.0f, 1.0f);
-        put(in, p, z);
-        put(in, p, uniform(rng, 0.0f, 0.01f));
-        const float spread = uniform(rng, 0.0f, 1.0f) < 0.5f ? 0.0f : 0.02f;
-        const float centre = z + uniform(rng, -0.02f, 0.02f);
-        for (int i = 0; i < 8; ++i) put(in, p, centre + uniform(rng, -spread, spread));
+        put(in, p, std::floor(uniform(rng, 0.0f, 8.999f)));
     }
 };
 
-/// Soft shadows: the lit fraction of all 64 PCF samples (`pcf_lit_fraction<64>`).
-struct Pcf64Kernel {
-    static constexpr const char* name = "pcf64";
-    static constexpr const char* source = "quadcast::pcf_lit_fraction<64> (quadcast/shading.hpp)";
-    static constexpr const char* summary = "percentage-closer filtering with 64 samples (Sigg et al. 2006, sec. 4)";
+/// Soft shadows: one sample's step of the PCF count (`pcf_count_step`).
+struct PcfCountStepKernel {
+    static constexpr const char* name = "pcf_count_step";
+    static constexpr const char* source = "quadcast::pcf_count_step (quadcast/shading.hpp)";
+    static constexpr const char* summary = "percentage-closer filtering: the count of lit samples after one more sample (Sigg et al. 2006, sec. 4)";
     template <class IO> static void run(IO& io) {
         using T = typename IO::T;
-        const T z = io.scalar("z"), bias = io.scalar("bias");
-        T s[64];
-        for (int i = 0; i < 64; ++i) s[i] = io.scalar("s" + std::to_string(i));
-        io.out("lit", pcf_lit_fraction<64>(z, bias, s));
+        const T count = io.scalar("count"), z = io.scalar("z"), bias = io.scalar("bias"), s = io.scalar("s");
+        io.out("next", pcf_count_step(count, z, bias, s));
     }
     static void generate(std::mt19937& rng, std::span<float> in) {
         std::size_t p = 0;
         const float z = uniform(rng, 0.0f, 1.0f);
+        put(in, p, std::floor(uniform(rng, 0.0f, 55.999f)));
         put(in, p, z);
         put(in, p, uniform(rng, 0.0f, 0.01f));
-        for (int i = 0; i < 64; ++i) put(in, p, z + uniform(rng, -0.02f, 0.02f));
+        put(in, p, z + uniform(rng, -0.02f, 0.02f));
     }
 };
 
+/// Soft shadows: the 64-sample lit fraction from the first 8 samples' fraction and the count of
+/// the other 56 (`pcf_fraction64`).
+struct PcfFraction64Kernel {
+    static constexpr const char* name = "pcf_fraction64";
+    static constexpr const char* source = "quadcast::pcf_fraction64 (quadcast/shading.hpp)";
+    static constexpr const char* summary = "percentage-closer filtering with 64 samples: the lit fraction from the first 8 and the count of the rest (Sigg et al. 2006, sec. 4)";
+    template <class IO> static void run(IO& io) {
+        using T = typename IO::T;
+        const T lit8 = io.scalar("lit8"), count56 = io.scalar("count56");
+        io.out("lit", pcf_fraction64(lit8, count56));
+    }
+    static void generate(std::mt19937& rng, std::span<float> in) {
+        std::size_t p = 0;
+        put(in, p, std::floor(uniform(rng, 0.0f, 8.999f)) / 8.0f);
+        put(in, p, std::floor(uniform(rng, 0.0f, 56.999f)));
+    }
+};
 
 /// Soft shadows: the shadow-map texel of one PCF sample (`pcf_sample_texel`).
 struct PcfSampleTexelKernel {

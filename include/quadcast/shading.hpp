@@ -60,17 +60,34 @@ Vec3<T> apply_outline(const Vec3<T>& rgb, const T& w, const T& strength) {
 }
 
 
+/// One step of a PCF count: `count` + 1 where shadow-map depth s does not occlude a receiver at
+/// light-space window depth z (z - bias <= s), else `count`.
+/// Numerics: zb = z - bias; a sum of 0/1 (exact).
+template <class T>
+T pcf_count_step(const T& count, const T& z, const T& bias, const T& s) {
+    return count + select(z - bias <= s, T(1), T(0));
+}
+
 /// Percentage-closer filtering (Reeves, Salesin and Cook 1987, as used by Sigg et al. 2006, sec. 4,
 /// "Soft Shadows"): the fraction of N shadow-map depths s[i] that do not occlude a receiver at
 /// light-space window depth z, i.e. with z - bias <= s[i].
-/// Numerics: zb = z - bias; the count is a left-folded sum of 0/1 (exact); lit = count / N
-/// (exact for N a power of two).
+/// Numerics: the count is a left fold of `pcf_count_step` from 0 (exact, in any order); lit =
+/// count / N (exact for N a power of two).
 template <int N, class T>
 T pcf_lit_fraction(const T& z, const T& bias, const T (&s)[N]) {
-    const T zb = z - bias;
     T count = T(0);
-    for (int i = 0; i < N; ++i) count = count + select(zb <= s[i], T(1), T(0));
+    for (int i = 0; i < N; ++i) count = pcf_count_step(count, z, bias, s[i]);
     return count / T(N);
+}
+
+/// The 64-sample fraction from the first 8 samples' fraction `lit8` (`pcf_first8`) and the count
+/// of the other 56 samples that are lit (`pcf_count_step` from 0): equal to
+/// `pcf_lit_fraction<64>` of all 64, so a renderer can fetch the 56 one at a time (and stop
+/// fetching where every pixel's first 8 agree).
+/// Numerics: (lit8 * 8 + count56) / 64; every step exact.
+template <class T>
+T pcf_fraction64(const T& lit8, const T& count56) {
+    return (lit8 * T(8) + count56) / T(64);
 }
 
 /// The first 8 of the 64 PCF samples (Sigg et al. 2006, sec. 4: "the first 8 samples are used to
@@ -82,11 +99,22 @@ struct PcfFirst {
     mask_t<T> decided;
 };
 
-/// Numerics: `pcf_lit_fraction<8>`; decided = lit == 0 || lit == 1 (exact).
+/// `pcf_first8` from the count of its lit samples (`pcf_count_step` over the 8 from 0), so a
+/// renderer can fetch them one at a time.
+/// Numerics: lit = count8 / 8 (exact); decided = lit == 0 || lit == 1 (exact).
+template <class T>
+PcfFirst<T> pcf_first8_from_count(const T& count8) {
+    const T lit = count8 / T(8);
+    return {lit, lit == T(0) || lit == T(1)};
+}
+
+/// Numerics: the count as in `pcf_lit_fraction<8>`, then `pcf_first8_from_count` (lit equals
+/// `pcf_lit_fraction<8>`).
 template <class T>
 PcfFirst<T> pcf_first8(const T& z, const T& bias, const T (&s)[8]) {
-    const T lit = pcf_lit_fraction<8>(z, bias, s);
-    return {lit, lit == T(0) || lit == T(1)};
+    T count = T(0);
+    for (int i = 0; i < 8; ++i) count = pcf_count_step(count, z, bias, s[i]);
+    return pcf_first8_from_count(count);
 }
 
 /// Soft-shadow visibility with the early-out: the 8-sample fraction where the first 8 samples agree,

@@ -1116,6 +1116,7 @@ private:
             gl.Uniform1f(prog.uniform_location("qc_shadow_size"), static_cast<float>(shadow_size_));
             gl.Uniform1f(prog.uniform_location("qc_shadow_bias"), opt.shadow_bias / static_cast<float>(shadow_size_));
             gl.Uniform1f(prog.uniform_location("qc_pcf_step"), static_cast<float>(opt.pcf_step));
+            gl.Uniform1i(prog.uniform_location("qc_pcf_samples"), 64);
         }
         gl.DrawArrays(GL_TRIANGLES, 0, 3);
         for (int i = 0; i < 5; ++i) gl.BindTextureUnit(static_cast<GLuint>(i), 0);

@@ -355,8 +355,9 @@ Stage deferred_shader(bool silhouettes, bool shadows, bool env) {
     }
     if (shadows) {
         add_kernel(s, fns, "shadow_coord");
-        add_kernel(s, fns, "pcf_first8");
-        add_kernel(s, fns, "pcf64");
+        add_kernel(s, fns, "pcf_first8_from_count");
+        add_kernel(s, fns, "pcf_count_step");
+        add_kernel(s, fns, "pcf_fraction64");
         add_kernel(s, fns, "pcf_sample_texel");
     }
     if (env) {
@@ -382,6 +383,7 @@ Stage deferred_shader(bool silhouettes, bool shadows, bool env) {
              "uniform float qc_shadow_size;  // shadow map size (texels)\n"
              "uniform float qc_shadow_bias;  // light window depth\n"
              "uniform float qc_pcf_step;     // texels between PCF samples\n"
+             "uniform int qc_pcf_samples;    // 64 (a uniform: the compiler keeps the penumbra's loop a loop)\n"
              "// PCF samples: grid cell (8x8) in quadcast::pcf_grid_order, the first 8 spread out.\n"
              "const float qc_pcf_order[64] = float[64](";
         for (int i = 0; i < 64; ++i) m << (i ? ", " : "") << pcf_grid_order[i] << ".0";
@@ -401,26 +403,32 @@ Stage deferred_shader(bool silhouettes, bool shadows, bool env) {
          "    vec4 gn = texelFetch(qc_gnormal, px, 0);\n"
          "    vec4 gv = texelFetch(qc_gview, px, 0);\n"
          "    vec4 gc = texelFetch(qc_gcolor, px, 0);\n"
-         "    vec3 rgb = qc_background;\n"
-         "    if (gv.w != 0.0) {\n";
+         "    vec3 rgb = qc_background;\n";
     if (shadows)
-        m << "        vec2 st;\n        float lz;\n"
-             "        qc_shadow_coord(gl_FragCoord.xy, gn.w, qc_viewport, qc_to_light, qc_shadow_size, st, lz);\n"
-             "        float s[64];\n"
-             "        for (int k = 0; k < 8; ++k) s[k] = qc_shadow_sample(st, k);\n"
-             "        float vis;\n        bool decided;\n"
-             "        qc_pcf_first8(lz, qc_shadow_bias, s[0], s[1], s[2], s[3], s[4], s[5], s[6], s[7], vis, decided);\n"
-             "        if (!decided) {  // penumbra: all 64 samples (Sigg et al. 2006, sec. 4)\n"
-             "            for (int k = 8; k < 64; ++k) s[k] = qc_shadow_sample(st, k);\n"
-             "            qc_pcf64(lz, qc_shadow_bias";
-    if (shadows) {
-        for (int i = 0; i < 64; ++i) m << (i % 8 == 0 ? ",\n                " : ", ") << "s[" << i << "]";
-        m << ", vis);\n"
-             "        }\n"
-             "        qc_shade_blinn_phong_shadowed(gn.xyz, -qc_light_dir, -gv.xyz, gc.rgb, qc_light_color, vec4(qc_material.xy, gc.w, gv.w), vis, rgb);\n";
-    } else {
+        // PCF (Sigg et al. 2006, sec. 4): the first 8 samples, then where they disagree (the
+        // penumbra) the other 56, each counted as it is fetched. The 56 in a loop, not behind a
+        // branch: llvmpipe runs both sides of a branch for every pixel of its SIMD group, but
+        // leaves a loop once every pixel of the group has left it; so a group outside any
+        // penumbra, or of background pixels, fetches 9 samples instead of 64 (the same picture).
+        m << "    bool covered = gv.w != 0.0;\n"
+             "    vec2 st;\n    float lz;\n"
+             "    qc_shadow_coord(gl_FragCoord.xy, gn.w, qc_viewport, qc_to_light, qc_shadow_size, st, lz);\n"
+             "    float count = 0.0;\n"
+             "    for (int k = 0; k < 8; ++k) qc_pcf_count_step(count, lz, qc_shadow_bias, qc_shadow_sample(st, k), count);\n"
+             "    float vis;\n    bool decided;\n"
+             "    qc_pcf_first8_from_count(count, vis, decided);\n"
+             "    decided = decided || !covered;\n"
+             "    count = 0.0;\n"
+             "    for (int k = 8; k < qc_pcf_samples; ++k) {\n"
+             "        if (decided) break;\n"
+             "        qc_pcf_count_step(count, lz, qc_shadow_bias, qc_shadow_sample(st, k), count);\n"
+             "    }\n"
+             "    if (!decided) qc_pcf_fraction64(vis, count, vis);\n";
+    m << "    if (gv.w != 0.0) {\n";
+    if (shadows)
+        m << "        qc_shade_blinn_phong_shadowed(gn.xyz, -qc_light_dir, -gv.xyz, gc.rgb, qc_light_color, vec4(qc_material.xy, gc.w, gv.w), vis, rgb);\n";
+    else
         m << "        qc_shade_blinn_phong(gn.xyz, -qc_light_dir, -gv.xyz, gc.rgb, qc_light_color, vec4(qc_material.xy, gc.w, gv.w), rgb);\n";
-    }
     if (env) m << "        rgb = qc_reflect_environment(rgb, gn.xyz, -gv.xyz);\n";
     m << "    }\n";
     if (silhouettes) {
