@@ -1085,40 +1085,67 @@ private:
         return programs_.get(render::quadric_key(v, culling, ortho, gbuffer, env, stage_, points));
     }
 
-    /// The deferred pass: one full-screen triangle into the colour target (depth test off; the
-    /// depth target keeps the quadric pass's depth) shading each pixel from the geometry buffer.
+    /// The deferred pass: full-screen triangles into the colour target (no depth writes; the depth
+    /// target keeps the quadric pass's depth) shading each pixel from the geometry buffer.
     void shade_deferred(const render::Camera& cam, const render::Light& light, const render::RenderOptions& opt) {
         const Api& gl = *api_;
-        const Program& prog = programs_.get(render::DeferredKey{opt.shadows, opt.silhouettes, opt.environment != nullptr});
         gl.BindFramebuffer(GL_FRAMEBUFFER, fbo_);
-        gl.Disable(GL_DEPTH_TEST);
-        gl.UseProgram(prog.id());
         for (int i = 0; i < 3; ++i) gl.BindTextureUnit(static_cast<GLuint>(i), gtex_[i]);
         const std::array<float, 4> pz = detail::projection_pz(cam);
-        gl.Uniform3fv(prog.uniform_location("qc_light_dir"), 1, light.direction.c);
-        gl.Uniform3fv(prog.uniform_location("qc_light_color"), 1, light.color.c);
-        gl.Uniform4fv(prog.uniform_location("qc_material"), 1, opt.material.c);
-        gl.Uniform3fv(prog.uniform_location("qc_background"), 1, opt.background.c);
-        gl.Uniform4fv(prog.uniform_location("qc_pz"), 1, pz.data());
-        gl.Uniform4fv(prog.uniform_location("qc_silhouette_params"), 1, opt.silhouette.c);
-        if (opt.environment) {
-            gl.BindTextureUnit(4, etex_);
-            gl.Uniform1f(prog.uniform_location("qc_reflectivity"), opt.reflectivity);
+        // With the depth test on, the covered pixels (window depth below 1) and the background
+        // (depth 1: nothing passed the test there) are drawn apart: the full-screen triangle at
+        // depth 1 (depth range [1, 1]), GREATER for the shading program, EQUAL for the background
+        // one (background colour and outlines). The early depth test then skips every 4x4 block of
+        // background for the shading, which llvmpipe would otherwise run masked, shadow-map
+        // samples included. The same picture: the shading program draws its background colour
+        // wherever nothing was hit, too.
+        const bool split = depth_test_;
+        const render::DeferredKey shading{opt.shadows, opt.silhouettes, opt.environment != nullptr, false};
+        const render::DeferredKey background{false, opt.silhouettes, false, true};
+        if (split) {
+            gl.Enable(GL_DEPTH_TEST);
+            gl.DepthMask(GL_FALSE);
+            gl.DepthRangef(1.0f, 1.0f);
+        } else {
+            gl.Disable(GL_DEPTH_TEST);
         }
-        if (opt.shadows) {
-            gl.BindTextureUnit(3, stex_);
-            const Mat4<float> m = render::camera_to_light(cam, light_cam_);
-            float to_light[16];
-            for (int j = 0; j < 4; ++j)
-                for (int i = 0; i < 4; ++i) to_light[j * 4 + i] = m[j][i];
-            gl.UniformMatrix4fv(prog.uniform_location("qc_to_light"), 1, GL_FALSE, to_light);
-            gl.Uniform2f(prog.uniform_location("qc_viewport"), static_cast<float>(opt.width), static_cast<float>(opt.height));
-            gl.Uniform1f(prog.uniform_location("qc_shadow_size"), static_cast<float>(shadow_size_));
-            gl.Uniform1f(prog.uniform_location("qc_shadow_bias"), opt.shadow_bias / static_cast<float>(shadow_size_));
-            gl.Uniform1f(prog.uniform_location("qc_pcf_step"), static_cast<float>(opt.pcf_step));
-            gl.Uniform1i(prog.uniform_location("qc_pcf_samples"), 64);
+        for (const render::DeferredKey& key : split ? std::vector<render::DeferredKey>{shading, background} : std::vector<render::DeferredKey>{shading}) {
+            const Program& prog = programs_.get(key);
+            gl.UseProgram(prog.id());
+            gl.Uniform3fv(prog.uniform_location("qc_background"), 1, opt.background.c);
+            gl.Uniform4fv(prog.uniform_location("qc_pz"), 1, pz.data());
+            gl.Uniform4fv(prog.uniform_location("qc_silhouette_params"), 1, opt.silhouette.c);
+            if (!key.background) {
+                gl.Uniform3fv(prog.uniform_location("qc_light_dir"), 1, light.direction.c);
+                gl.Uniform3fv(prog.uniform_location("qc_light_color"), 1, light.color.c);
+                gl.Uniform4fv(prog.uniform_location("qc_material"), 1, opt.material.c);
+            }
+            if (key.environment) {
+                gl.BindTextureUnit(4, etex_);
+                gl.Uniform1f(prog.uniform_location("qc_reflectivity"), opt.reflectivity);
+            }
+            if (key.shadows) {
+                gl.BindTextureUnit(3, stex_);
+                const Mat4<float> m = render::camera_to_light(cam, light_cam_);
+                float to_light[16];
+                for (int j = 0; j < 4; ++j)
+                    for (int i = 0; i < 4; ++i) to_light[j * 4 + i] = m[j][i];
+                gl.UniformMatrix4fv(prog.uniform_location("qc_to_light"), 1, GL_FALSE, to_light);
+                gl.Uniform2f(prog.uniform_location("qc_viewport"), static_cast<float>(opt.width), static_cast<float>(opt.height));
+                gl.Uniform1f(prog.uniform_location("qc_shadow_size"), static_cast<float>(shadow_size_));
+                gl.Uniform1f(prog.uniform_location("qc_shadow_bias"), opt.shadow_bias / static_cast<float>(shadow_size_));
+                gl.Uniform1f(prog.uniform_location("qc_pcf_step"), static_cast<float>(opt.pcf_step));
+                gl.Uniform1i(prog.uniform_location("qc_pcf_samples"), 64);
+            }
+            if (split) gl.DepthFunc(key.background ? GL_EQUAL : GL_GREATER);
+            gl.DrawArrays(GL_TRIANGLES, 0, 3);
         }
-        gl.DrawArrays(GL_TRIANGLES, 0, 3);
+        if (split) {
+            gl.DepthRangef(0.0f, 1.0f);
+            gl.DepthMask(GL_TRUE);
+            gl.DepthFunc(GL_LESS);
+            gl.Disable(GL_DEPTH_TEST);
+        }
         for (int i = 0; i < 5; ++i) gl.BindTextureUnit(static_cast<GLuint>(i), 0);
     }
 

@@ -4,6 +4,7 @@
 #include "quadcast/gl/stages.hpp"
 
 #include <sstream>
+#include <stdexcept>
 
 #include "quadcast/render/record.hpp"
 #include "quadcast/shading.hpp"
@@ -344,11 +345,14 @@ Stage fragment_shader(const render::QuadricKey& k) {
 /// (`shade_blinn_phong` with the same arguments as the forward pass: bit-identical colour), the
 /// background where nothing was hit; with `silhouettes` the outline of `silhouette` from the 3x3
 /// neighbourhood (texel coordinates clamped to the image); with `env` the environment reflection
-/// mixed into the shaded colour before the outline.
-Stage deferred_shader(bool silhouettes, bool shadows, bool env) {
+/// mixed into the shaded colour before the outline. With `background`, the background colour and
+/// the outline only (the renderer draws it where nothing was hit; no shading, shadows or
+/// environment).
+Stage deferred_shader(bool silhouettes, bool shadows, bool env, bool background) {
+    if (background) shadows = env = false;
     Stage s;
     std::ostringstream fns;
-    add_kernel(s, fns, shadows ? "shade_blinn_phong_shadowed" : "shade_blinn_phong");
+    if (!background) add_kernel(s, fns, shadows ? "shade_blinn_phong_shadowed" : "shade_blinn_phong");
     if (silhouettes) {
         add_kernel(s, fns, "silhouette");
         add_kernel(s, fns, "neighbour_texel");
@@ -404,7 +408,7 @@ Stage deferred_shader(bool silhouettes, bool shadows, bool env) {
          "    vec4 gv = texelFetch(qc_gview, px, 0);\n"
          "    vec4 gc = texelFetch(qc_gcolor, px, 0);\n"
          "    vec3 rgb = qc_background;\n";
-    if (shadows)
+    if (shadows)  // (false for the background)
         // PCF (Sigg et al. 2006, sec. 4): the first 8 samples, then where they disagree (the
         // penumbra) the other 56, each counted as it is fetched. The 56 in a loop, not behind a
         // branch: llvmpipe runs both sides of a branch for every pixel of its SIMD group, but
@@ -424,13 +428,15 @@ Stage deferred_shader(bool silhouettes, bool shadows, bool env) {
              "        qc_pcf_count_step(count, lz, qc_shadow_bias, qc_shadow_sample(st, k), count);\n"
              "    }\n"
              "    if (!decided) qc_pcf_fraction64(vis, count, vis);\n";
-    m << "    if (gv.w != 0.0) {\n";
-    if (shadows)
-        m << "        qc_shade_blinn_phong_shadowed(gn.xyz, -qc_light_dir, -gv.xyz, gc.rgb, qc_light_color, vec4(qc_material.xy, gc.w, gv.w), vis, rgb);\n";
-    else
-        m << "        qc_shade_blinn_phong(gn.xyz, -qc_light_dir, -gv.xyz, gc.rgb, qc_light_color, vec4(qc_material.xy, gc.w, gv.w), rgb);\n";
-    if (env) m << "        rgb = qc_reflect_environment(rgb, gn.xyz, -gv.xyz);\n";
-    m << "    }\n";
+    if (!background) {
+        m << "    if (gv.w != 0.0) {\n";
+        if (shadows)
+            m << "        qc_shade_blinn_phong_shadowed(gn.xyz, -qc_light_dir, -gv.xyz, gc.rgb, qc_light_color, vec4(qc_material.xy, gc.w, gv.w), vis, rgb);\n";
+        else
+            m << "        qc_shade_blinn_phong(gn.xyz, -qc_light_dir, -gv.xyz, gc.rgb, qc_light_color, vec4(qc_material.xy, gc.w, gv.w), rgb);\n";
+        if (env) m << "        rgb = qc_reflect_environment(rgb, gn.xyz, -gv.xyz);\n";
+        m << "    }\n";
+    }
     if (silhouettes) {
         m << "    vec2 last = vec2(textureSize(qc_gnormal, 0) - 1);\n"
              "    vec4 t[9];\n"
@@ -917,10 +923,12 @@ std::vector<StageText> program_stages(const render::QuadricKey& key) {
 std::vector<StageText> program_stages(const render::DeferredKey& k) {
     Stage v;
     v.text = detail::fullscreen_vertex;
-    const std::string dname = std::string("qc_deferred") + (k.shadows ? "_shadows" : "") + (k.silhouettes ? "_silhouettes" : "") + (k.environment ? "_environment" : "") + ".frag";
+    if (k.background && (k.shadows || k.environment)) throw std::invalid_argument("quadcast::gl::program_stages: the deferred background pass has no shading");
+    const std::string dname = std::string("qc_deferred") + (k.background ? "_background" : "") + (k.shadows ? "_shadows" : "") + (k.silhouettes ? "_silhouettes" : "") +
+                              (k.environment ? "_environment" : "") + ".frag";
     return {stage_text(StageText::Kind::vertex, "qc_fullscreen.vert", v, "deferred shading: full-screen triangle"),
-            stage_text(StageText::Kind::fragment, dname, deferred_shader(k.silhouettes, k.shadows, k.environment),
-                       std::string("deferred shading: Blinn-Phong from the geometry buffer") + (k.shadows ? ", soft shadows (64-sample PCF, 8-sample early-out)" : "") +
+            stage_text(StageText::Kind::fragment, dname, deferred_shader(k.silhouettes, k.shadows, k.environment, k.background),
+                       std::string(k.background ? "deferred shading: the background's pixels" : "deferred shading: Blinn-Phong from the geometry buffer") + (k.shadows ? ", soft shadows (64-sample PCF, 8-sample early-out)" : "") +
                            (k.silhouettes ? ", silhouette and crease outlines" : "") + (k.environment ? ", environment reflection" : ""))};
 }
 

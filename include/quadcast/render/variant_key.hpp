@@ -116,6 +116,9 @@ struct DeferredKey {
     bool shadows = false;
     bool silhouettes = false;
     bool environment = false;
+    /// The background's pixels only (the renderer selects them by the depth test): the background
+    /// colour and, with `silhouettes`, the outlines; no shading (shadows and environment false).
+    bool background = false;
     friend constexpr bool operator==(const DeferredKey&, const DeferredKey&) = default;
 };
 
@@ -180,7 +183,8 @@ inline std::string key_name(const QuadricKey& k) {
     return s;
 }
 inline std::string key_name(const DeferredKey& k) {
-    return std::string("deferred") + (k.shadows ? ":shadows" : "") + (k.silhouettes ? ":silhouettes" : "") + (k.environment ? ":environment" : "");
+    return std::string("deferred") + (k.shadows ? ":shadows" : "") + (k.silhouettes ? ":silhouettes" : "") + (k.environment ? ":environment" : "") +
+           (k.background ? ":background" : "");
 }
 inline std::string key_name(const IsoKey& k) {
     return std::string("iso:") + volume_scheme_name(k.scheme) + (k.ortho ? ":ortho" : ":perspective") + (k.gbuffer ? ":gbuffer" : "") +
@@ -250,7 +254,8 @@ inline std::vector<DeferredKey> all_deferred_keys() {
     std::vector<DeferredKey> out;
     for (bool env : {false, true})
         for (bool shadows : {false, true})
-            for (bool sil : {false, true}) out.push_back({shadows, sil, env});
+            for (bool sil : {false, true}) out.push_back({shadows, sil, env, false});
+    for (bool sil : {false, true}) out.push_back({false, sil, false, true});
     return out;
 }
 
