@@ -120,12 +120,16 @@ PcfFirst<T> pcf_first8(const T& z, const T& bias, const T (&s)[8]) {
 /// Soft-shadow visibility with the early-out: the 8-sample fraction where the first 8 samples agree,
 /// else the 64-sample fraction (s[0..7] are the first 8). A renderer may skip fetching s[8..63] when
 /// `pcf_first8` is decided; the result is the same.
+/// Numerics: the GPU's composition: `pcf_first8` (counted by `pcf_count_step`), the other 56
+/// counted from 0, `pcf_fraction64`; equal to `pcf_lit_fraction<64>` of all 64 (exact).
 template <class T>
 T pcf_soft_shadow(const T& z, const T& bias, const T (&s)[64]) {
     T first[8];
     for (int i = 0; i < 8; ++i) first[i] = s[i];
     const PcfFirst<T> f = pcf_first8(z, bias, first);
-    return select(f.decided, f.lit, pcf_lit_fraction<64>(z, bias, s));
+    T count56 = T(0);
+    for (int i = 8; i < 64; ++i) count56 = pcf_count_step(count56, z, bias, s[i]);
+    return select(f.decided, f.lit, pcf_fraction64(f.lit, count56));
 }
 
 /// Texel offsets of the 64 PCF samples: an 8x8 grid of offsets -7, -5, ..., 7 (in half texels of

@@ -31,6 +31,7 @@
 #include "quadcast/render/point_sprites.hpp"
 #include "quadcast/render/record.hpp"
 #include "quadcast/render/window_ray.hpp"
+#include "quadcast/shading.hpp"
 
 namespace quadcast::gl {
 
@@ -1099,18 +1100,25 @@ private:
         // background for the shading, which llvmpipe would otherwise run masked, shadow-map
         // samples included. The same picture: the shading program draws its background colour
         // wherever nothing was hit, too.
+        // (A pixel whose depth fails both tests, which only a pass writing gl_FragDepth at or beyond
+        // the far plane can leave, keeps the background colour the target is cleared to.)
         const bool split = depth_test_;
         const render::DeferredKey shading{opt.shadows, opt.silhouettes, opt.environment != nullptr, false};
         const render::DeferredKey background{false, opt.silhouettes, false, true};
+        std::vector<std::pair<render::DeferredKey, const Program*>> draws;
+        for (const render::DeferredKey& key : split ? std::vector<render::DeferredKey>{shading, background} : std::vector<render::DeferredKey>{shading})
+            draws.emplace_back(key, &programs_.get(key));  // (compiled before any state changes)
         if (split) {
+            const float bg[4] = {opt.background[0], opt.background[1], opt.background[2], 1.0f};
+            gl.ClearBufferfv(GL_COLOR, 0, bg);
             gl.Enable(GL_DEPTH_TEST);
             gl.DepthMask(GL_FALSE);
             gl.DepthRangef(1.0f, 1.0f);
         } else {
             gl.Disable(GL_DEPTH_TEST);
         }
-        for (const render::DeferredKey& key : split ? std::vector<render::DeferredKey>{shading, background} : std::vector<render::DeferredKey>{shading}) {
-            const Program& prog = programs_.get(key);
+        for (const auto& [key, program] : draws) {
+            const Program& prog = *program;
             gl.UseProgram(prog.id());
             gl.Uniform3fv(prog.uniform_location("qc_background"), 1, opt.background.c);
             gl.Uniform4fv(prog.uniform_location("qc_pz"), 1, pz.data());
@@ -1135,7 +1143,7 @@ private:
                 gl.Uniform1f(prog.uniform_location("qc_shadow_size"), static_cast<float>(shadow_size_));
                 gl.Uniform1f(prog.uniform_location("qc_shadow_bias"), opt.shadow_bias / static_cast<float>(shadow_size_));
                 gl.Uniform1f(prog.uniform_location("qc_pcf_step"), static_cast<float>(opt.pcf_step));
-                gl.Uniform1i(prog.uniform_location("qc_pcf_samples"), 64);
+                gl.Uniform1i(prog.require_uniform("qc_pcf_samples"), static_cast<GLint>(std::size(pcf_grid_order)));
             }
             if (split) gl.DepthFunc(key.background ? GL_EQUAL : GL_GREATER);
             gl.DrawArrays(GL_TRIANGLES, 0, 3);

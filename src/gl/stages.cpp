@@ -349,7 +349,6 @@ Stage fragment_shader(const render::QuadricKey& k) {
 /// the outline only (the renderer draws it where nothing was hit; no shading, shadows or
 /// environment).
 Stage deferred_shader(bool silhouettes, bool shadows, bool env, bool background) {
-    if (background) shadows = env = false;
     Stage s;
     std::ostringstream fns;
     if (!background) add_kernel(s, fns, shadows ? "shade_blinn_phong_shadowed" : "shade_blinn_phong");
@@ -413,7 +412,8 @@ Stage deferred_shader(bool silhouettes, bool shadows, bool env, bool background)
         // penumbra) the other 56, each counted as it is fetched. The 56 in a loop, not behind a
         // branch: llvmpipe runs both sides of a branch for every pixel of its SIMD group, but
         // leaves a loop once every pixel of the group has left it; so a group outside any
-        // penumbra, or of background pixels, fetches 9 samples instead of 64 (the same picture).
+        // penumbra, or of background pixels, fetches 8 samples instead of 64 (and runs the loop
+        // body once with every pixel masked off; the same picture).
         m << "    bool covered = gv.w != 0.0;\n"
              "    vec2 st;\n    float lz;\n"
              "    qc_shadow_coord(gl_FragCoord.xy, gn.w, qc_viewport, qc_to_light, qc_shadow_size, st, lz);\n"
@@ -924,8 +924,8 @@ std::vector<StageText> program_stages(const render::DeferredKey& k) {
     Stage v;
     v.text = detail::fullscreen_vertex;
     if (k.background && (k.shadows || k.environment)) throw std::invalid_argument("quadcast::gl::program_stages: the deferred background pass has no shading");
-    const std::string dname = std::string("qc_deferred") + (k.background ? "_background" : "") + (k.shadows ? "_shadows" : "") + (k.silhouettes ? "_silhouettes" : "") +
-                              (k.environment ? "_environment" : "") + ".frag";
+    const std::string dname = std::string("qc_deferred") + (k.shadows ? "_shadows" : "") + (k.silhouettes ? "_silhouettes" : "") + (k.environment ? "_environment" : "") +
+                              (k.background ? "_background" : "") + ".frag";
     return {stage_text(StageText::Kind::vertex, "qc_fullscreen.vert", v, "deferred shading: full-screen triangle"),
             stage_text(StageText::Kind::fragment, dname, deferred_shader(k.silhouettes, k.shadows, k.environment, k.background),
                        std::string(k.background ? "deferred shading: the background's pixels" : "deferred shading: Blinn-Phong from the geometry buffer") + (k.shadows ? ", soft shadows (64-sample PCF, 8-sample early-out)" : "") +

@@ -2,6 +2,8 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <cstdio>
 #include <random>
 
@@ -70,6 +72,51 @@ TEST_CASE("deferred shading draws the image forward shading draws") {
             CHECK(d.max <= 1);
             CHECK(depth_diff == 0);
         }
+}
+
+TEST_CASE("the deferred pass writes every pixel: the background's and the covered ones, in two draws") {
+    // The pass draws the covered pixels (depth < 1) and the background (depth 1) apart, selected by
+    // the depth test. A frame with another background colour must leave no pixel of the last one,
+    // and give the covered pixels the same colours; with shadows and outlines on and off.
+    gl::OsmesaContext ctx;
+    gl::QuadricRenderer r(ctx.api());
+    r.set_primitives(qc_render_test::mixed_scene(11, {50, 25, 8, true, false}));
+    Light light;
+    light.direction = vec3(-0.4f, -0.6f, -1.0f);
+    for (bool effects : {false, true}) {
+        RenderOptions o;
+        o.width = 240;
+        o.height = 180;
+        o.deferred = true;
+        o.shadows = effects;
+        o.silhouettes = effects;
+        const Camera cam = test_camera(false);
+        o.background = vec3(1.0f, 1.0f, 1.0f);
+        r.draw(cam, light, o);
+        const Image white = r.read();
+        o.background = vec3(0.0f, 0.5f, 0.0f);
+        r.draw(cam, light, o);
+        const Image green = r.read();
+        long background = 0, stale = 0, wrong = 0, covered_differ = 0;
+        for (std::size_t i = 0; i < green.depth.size(); ++i) {
+            const std::uint8_t* g = &green.rgba[i * 4];
+            if (green.depth[i] < 1.0f) {
+                // (an outline may reach a covered pixel from the background; without outlines none differs)
+                covered_differ += !effects && std::memcmp(g, &white.rgba[i * 4], 4) != 0;
+                continue;
+            }
+            ++background;
+            stale += g[0] == 255 && g[2] == 255;
+            // the background colour, or with outlines darkened towards black: red and blue 0, green at most 128
+            wrong += g[0] != 0 || g[2] != 0 || g[1] > 128 || g[3] != 255 || (!effects && g[1] != 128);
+        }
+        std::printf("[deferred] two draws, %s: %ld background px, %ld keep the last frame's colour, %ld not the background colour; %ld covered px differ\n",
+                    effects ? "shadows and outlines" : "plain", background, stale, wrong, covered_differ);
+        CHECK(background > 10000);
+        CHECK(stale == 0);
+        CHECK(wrong == 0);
+        CHECK(covered_differ == 0);
+    }
 }
 
 TEST_CASE("silhouette outlines darken edges only, and the GL and CPU renderers agree on them") {

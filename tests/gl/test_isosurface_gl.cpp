@@ -420,6 +420,7 @@ TEST_CASE("the compute pre-pass of the coefficients draws the vertex stage's ima
             o.height = 128;
             const Camera cam = camera(ortho);
             using Stage = gl::IsosurfaceRenderer::CoefficientStage;
+            iso.set_pre_pass_budget(std::size_t(64) << 20);
             iso.set_coefficient_stage(Stage::vertex);
             qr.draw(cam, light, o);
             CHECK_FALSE(iso.stats(0).pre_pass);
@@ -442,7 +443,9 @@ TEST_CASE("the compute pre-pass of the coefficients draws the vertex stage's ima
             iso.set_pre_pass_budget(bytes);
             qr.draw(cam, light, o);
             CHECK(iso.stats(0).pre_pass == (s == VolumeScheme::s31));
-            CHECK(qr.read().rgba == a.rgba);
+            const Image d = qr.read();
+            CHECK(d.rgba == a.rgba);
+            CHECK(d.depth == a.depth);
             long covered = 0;
             for (float d : a.depth) covered += d < 1.0f;
             std::printf("[iso gl] compute pre-pass, %s %s: %ld covered px, images %s\n", volume_scheme_name(s), ortho ? "orthographic" : "perspective",

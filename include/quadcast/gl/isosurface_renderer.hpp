@@ -9,8 +9,9 @@
 //   coefficient range contains ρ) is drawn as its 4 back faces (indexed, 4 vertices), every active
 //   trilinear cell as its box's back faces (8 vertices).
 // - Vertex stage (traced): the tetrahedron's BB-coefficients by repeated averaging from the
-//   determining set seen from that tetrahedron (or, optionally, read from a compute pre-pass that
-//   runs the same averaging once per tetrahedron), the vertex's clip position and the ray terms.
+//   determining set seen from that tetrahedron (or read from a compute pre-pass that runs the same
+//   averaging once per tetrahedron: by default for S31 within a memory budget, CoefficientStage),
+//   the vertex's clip position and the ray terms.
 // - Occlusion culling (RenderOptions::occlusion_culling, occlusion_phases): the cubes (cells)
 //   nearest first, the tetrahedra (cells) in phases; before each later phase a copy of the depth buffer,
 //   its max-depth pyramid and per element `spline::tet_occlusion_bound` / `cell_occlusion_bound` (compute): the kept
@@ -93,8 +94,9 @@ public:
     /// nothing measurable; on the liver (S31, several million tetrahedra drawn) it gained 1.07-1.13x
     /// but raised the process's peak memory from 0.97 to 1.7 GB.
     enum class CoefficientStage { vertex, compute, automatic };
-    /// The largest coefficient buffer `CoefficientStage::automatic` uses the pre-pass for, in bytes
-    /// (default 64 MiB: 838,860 S31 tetrahedra of 20 floats).
+    /// `CoefficientStage::automatic` uses the pre-pass where the frame's list needs at most this
+    /// many bytes of coefficients, per volume (default 64 MiB: 838,860 S31 tetrahedra of 20
+    /// floats; the buffer is allocated with 1/8 headroom and kept for later frames).
     void set_pre_pass_budget(std::size_t bytes) {
         pre_pass_budget_ = bytes;
         ++revision_;
