@@ -80,7 +80,7 @@ T pcf_lit_fraction(const T& z, const T& bias, const T (&s)[N]) {
     return count / T(N);
 }
 
-/// The 64-sample fraction from the first 8 samples' fraction `lit8` (`pcf_first8`) and the count
+/// The 64-sample fraction from the first 8 samples' fraction `lit8` (`pcf_first8_from_count`) and the count
 /// of the other 56 samples that are lit (`pcf_count_step` from 0): equal to
 /// `pcf_lit_fraction<64>` of all 64, so a renderer can fetch the 56 one at a time (and stop
 /// fetching where every pixel's first 8 agree).
@@ -99,8 +99,8 @@ struct PcfFirst {
     mask_t<T> decided;
 };
 
-/// `pcf_first8` from the count of its lit samples (`pcf_count_step` over the 8 from 0), so a
-/// renderer can fetch them one at a time.
+/// The first 8 samples' lit fraction and whether they agree, from the count of those lit
+/// (`pcf_count_step` over the 8 from 0), so a renderer can fetch them one at a time.
 /// Numerics: lit = count8 / 8 (exact); decided = lit == 0 || lit == 1 (exact).
 template <class T>
 PcfFirst<T> pcf_first8_from_count(const T& count8) {
@@ -108,27 +108,18 @@ PcfFirst<T> pcf_first8_from_count(const T& count8) {
     return {lit, lit == T(0) || lit == T(1)};
 }
 
-/// Numerics: the count as in `pcf_lit_fraction<8>`, then `pcf_first8_from_count` (lit equals
-/// `pcf_lit_fraction<8>`).
-template <class T>
-PcfFirst<T> pcf_first8(const T& z, const T& bias, const T (&s)[8]) {
-    T count = T(0);
-    for (int i = 0; i < 8; ++i) count = pcf_count_step(count, z, bias, s[i]);
-    return pcf_first8_from_count(count);
-}
-
 /// Soft-shadow visibility with the early-out: the 8-sample fraction where the first 8 samples agree,
 /// else the 64-sample fraction (s[0..7] are the first 8). A renderer may skip fetching s[8..63] when
-/// `pcf_first8` is decided; the result is the same.
-/// Numerics: the GPU's composition: `pcf_first8` (counted by `pcf_count_step`), the other 56
-/// counted from 0, `pcf_fraction64`; equal to `pcf_lit_fraction<64>` of all 64 (exact).
+/// the first 8 are decided; the result is the same.
+/// Numerics: the GPU's composition: the first 8 counted by `pcf_count_step` from 0,
+/// `pcf_first8_from_count`, the other 56 counted from 0, `pcf_fraction64`; equal to
+/// `pcf_lit_fraction<64>` of all 64 (exact).
 template <class T>
 T pcf_soft_shadow(const T& z, const T& bias, const T (&s)[64]) {
-    T first[8];
-    for (int i = 0; i < 8; ++i) first[i] = s[i];
-    const PcfFirst<T> f = pcf_first8(z, bias, first);
-    T count56 = T(0);
+    T count8 = T(0), count56 = T(0);
+    for (int i = 0; i < 8; ++i) count8 = pcf_count_step(count8, z, bias, s[i]);
     for (int i = 8; i < 64; ++i) count56 = pcf_count_step(count56, z, bias, s[i]);
+    const PcfFirst<T> f = pcf_first8_from_count(count8);
     return select(f.decided, f.lit, pcf_fraction64(f.lit, count56));
 }
 

@@ -15,6 +15,7 @@
 #include <map>
 #include <memory>
 #include <stdexcept>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -1105,9 +1106,8 @@ private:
         const bool split = depth_test_;
         const render::DeferredKey shading{opt.shadows, opt.silhouettes, opt.environment != nullptr, false};
         const render::DeferredKey background{false, opt.silhouettes, false, true};
-        std::vector<std::pair<render::DeferredKey, const Program*>> draws;
-        for (const render::DeferredKey& key : split ? std::vector<render::DeferredKey>{shading, background} : std::vector<render::DeferredKey>{shading})
-            draws.emplace_back(key, &programs_.get(key));  // (compiled before any state changes)
+        const std::pair<render::DeferredKey, const Program*> passes[2] = {{shading, &programs_.get(shading)},  // (compiled before any state changes)
+                                                                          {background, split ? &programs_.get(background) : nullptr}};
         if (split) {
             const float bg[4] = {opt.background[0], opt.background[1], opt.background[2], 1.0f};
             gl.ClearBufferfv(GL_COLOR, 0, bg);
@@ -1117,7 +1117,7 @@ private:
         } else {
             gl.Disable(GL_DEPTH_TEST);
         }
-        for (const auto& [key, program] : draws) {
+        for (const auto& [key, program] : std::span(passes, split ? 2 : 1)) {
             const Program& prog = *program;
             gl.UseProgram(prog.id());
             gl.Uniform3fv(prog.uniform_location("qc_background"), 1, opt.background.c);

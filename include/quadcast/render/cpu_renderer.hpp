@@ -330,7 +330,7 @@ struct ShadowLookup {
 
 /// Soft-shadow visibility of the surface at window position (fx, fy) and depth d, as the GL
 /// deferred pass computes it: `shadow_coord`, the 64 texels of `pcf_sample_texel` (grid cells in
-/// `pcf_grid_order`), `pcf_soft_shadow` (= `pcf_first8`, then `pcf_lit_fraction<64>` if undecided).
+/// `pcf_grid_order`), `pcf_soft_shadow` (the first 8, then all 64 if they disagree).
 inline float shadow_visibility(const ShadowLookup& sh, float fx, float fy, float d) {
     const ShadowCoord<float> c = shadow_coord(vec2(fx, fy), d, sh.viewport, sh.to_light, static_cast<float>(sh.size));
     float smp[64];

@@ -134,7 +134,7 @@ struct RenderOptions {
     Vec4<float> silhouette{{0.03f, 3.0f, 0.7f, 0.0f}};  ///< depth threshold, normal threshold, strength, unused
     /// Soft shadows (Sigg et al. 2006, sec. 4): a shadow map from an orthographic light camera
     /// fitted to the primitives' bounding spheres (`light_camera` in quadcast/render/cpu_renderer.hpp),
-    /// filtered with 64-sample PCF after an 8-sample penumbra test (`pcf_first8`, `pcf_lit_fraction`).
+    /// filtered with 64-sample PCF after an 8-sample penumbra test (`pcf_soft_shadow`).
     bool shadows = false;
     int shadow_map_size = 2048;   ///< texels per side
     int pcf_step = 2;             ///< texels between PCF samples (footprint (7 step) x (7 step))
