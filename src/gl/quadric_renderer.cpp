@@ -151,6 +151,7 @@ public:
         api_->DeleteVertexArrays(1, &vao_);
         if (query_) api_->DeleteQueries(1, &query_);
         if (fs_query_) api_->DeleteQueries(1, &fs_query_);
+        if (count_buffer_) api_->DeleteBuffers(1, &count_buffer_);
         for (GLuint q : cull_queries_)
             if (q) api_->DeleteQueries(1, &q);
     }
@@ -202,16 +203,15 @@ public:
     }
     /// Samples that passed (GL_SAMPLES_PASSED) in the primitive pass of the last `draw`.
     std::uint64_t samples_passed() const { return samples_passed_; }
-    /// Count fragment-shader invocations of the primitive pass (GL_ARB_pipeline_statistics_query,
-    /// GL_FRAGMENT_SHADER_INVOCATIONS) in the next draws; off by default. Throws
-    /// std::runtime_error when the context does not have the extension.
+    /// Count the fragments of the primitive pass in the next draws (see QuadricRenderer); off by
+    /// default. Throws std::runtime_error when the context does not have the extension.
     void set_count_fragments(bool on) {
         if (on && !has_extension(*api_, "GL_ARB_pipeline_statistics_query"))
             throw std::runtime_error("quadcast::gl::QuadricRenderer: the context has no GL_ARB_pipeline_statistics_query (fragment shader invocations)");
         count_fragments_ = on;
     }
-    /// Fragment-shader invocations of the primitive pass of the last `draw` (with `set_count_fragments`).
-    std::uint64_t fragment_invocations() const { return fragment_invocations_; }
+    std::uint64_t fragment_invocations() const { return counts_.invocations; }
+    const FragmentCounts& fragment_counts() const { return counts_; }
     /// Other geometry (e.g. isosurfaces) drawn in every pass after the primitives; `p` must
     /// outlive its use here. `clear_passes` removes them.
     void add_pass(ScenePass& p) {
@@ -397,8 +397,16 @@ public:
         if (count_fragments_) {
             if (!fs_query_) gl.GenQueries(1, &fs_query_);
             gl.BeginQuery(0x82F4 /* GL_FRAGMENT_SHADER_INVOCATIONS */, fs_query_);
+            // (the counting stages add into binding 14, zeroed here: this pass's fragments only)
+            const std::uint32_t zero[3] = {0, 0, 0};
+            if (!count_buffer_) gl.GenBuffers(1, &count_buffer_);
+            gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, count_buffer_);
+            gl.BufferData(GL_SHADER_STORAGE_BUFFER, sizeof zero, zero, GL_DYNAMIC_READ);
+            gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 14, count_buffer_);
+            counting_ = true;
         }
         draw_primitives(cam, light, opt, deferred, opt.occlusion_culling, tex_[1]);
+        counting_ = false;
         gl.EndQuery(GL_SAMPLES_PASSED);
         if (count_fragments_) gl.EndQuery(0x82F4);
         GLuint64 passed = 0;
@@ -407,7 +415,12 @@ public:
         if (count_fragments_) {
             GLuint64 invocations = 0;
             gl.GetQueryObjectui64v(fs_query_, GL_QUERY_RESULT, &invocations);
-            fragment_invocations_ = static_cast<std::uint64_t>(invocations);
+            std::uint32_t c[3] = {0, 0, 0};
+            gl.MemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+            gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, count_buffer_);
+            gl.GetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, sizeof c, c);
+            gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 14, 0);
+            counts_ = {static_cast<std::uint64_t>(invocations), c[0], c[1], c[2]};
         }
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, 0);
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, 0);
@@ -1084,7 +1097,7 @@ private:
     /// `gbuffer`, the geometry-buffer stages (which do not shade), for the fragment stage set by
     /// `set_fragment_stage` (compiled on first use).
     const Program& program(render::Variant v, bool culling, bool ortho, bool gbuffer = false, bool env = false, bool points = false) {
-        return programs_.get(render::quadric_key(v, culling, ortho, gbuffer, env, stage_, points));
+        return programs_.get(render::quadric_key(v, culling, ortho, gbuffer, env, stage_, points, counting_));
     }
 
     /// The deferred pass: full-screen triangles into the colour target (no depth writes; the depth
@@ -1339,8 +1352,11 @@ private:
     bool each_sphere_fit_ = false;
     bool occluders_in_depth_ = false;  ///< `rasterise_occluders` drew into the depth target of the next `draw_primitives`
     GLuint query_ = 0, fs_query_ = 0;
-    std::uint64_t samples_passed_ = 0, fragment_invocations_ = 0;
+    std::uint64_t samples_passed_ = 0;
+    FragmentCounts counts_;
     bool count_fragments_ = false;
+    bool counting_ = false;  ///< the primitive pass of a `draw` with count_fragments_: the counting stages
+    GLuint count_buffer_ = 0;
 };
 
 QuadricRenderer::QuadricRenderer(const Api& api) : impl_(std::make_unique<Impl>(api)) {}
@@ -1358,6 +1374,7 @@ void QuadricRenderer::set_dispatch_row_limit(std::uint32_t groups) { impl_->set_
 std::uint64_t QuadricRenderer::samples_passed() const { return impl_->samples_passed(); }
 void QuadricRenderer::set_count_fragments(bool on) { impl_->set_count_fragments(on); }
 std::uint64_t QuadricRenderer::fragment_invocations() const { return impl_->fragment_invocations(); }
+const FragmentCounts& QuadricRenderer::fragment_counts() const { return impl_->fragment_counts(); }
 void QuadricRenderer::add_pass(ScenePass& p) { impl_->add_pass(p); }
 void QuadricRenderer::clear_passes() { impl_->clear_passes(); }
 void QuadricRenderer::set_primitives(const std::vector<render::Primitive>& prims) { impl_->set_primitives(prims); }

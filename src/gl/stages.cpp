@@ -255,6 +255,8 @@ Stage sphere_vertex_shader(bool ortho, bool points) {
 /// buffer of the deferred pass (Sigg et al. 2006, sec. 4): normal and window depth, ray direction
 /// (the shading's eye vector) and colour.
 /// With `env`, forward shading mixes in the environment reflection (`qc_reflect_environment`).
+/// With `count`, atomic adds count the fragments that start, that pass the early discard and
+/// cast their ray, and whose ray hits (binding 14).
 Stage fragment_shader(const render::QuadricKey& k) {
     Stage s;
     const bool ortho = k.ortho, gbuffer = k.gbuffer, env = k.environment;
@@ -294,6 +296,9 @@ Stage fragment_shader(const render::QuadricKey& k) {
          "uniform bool qc_early;        // the cull pass ran for this pass: test against its depth image\n"
          "uniform int qc_depth_width;   // its width (the viewport's)\n"
          "flat in float qc_nearest;     // the primitive's nearest view distance (quadcast::nearest_distance)\n";
+    if (k.count)
+        m << "// Fragment counts (a measurement): started, passed the early discard (cast their ray), hit\n"
+             "layout(std430, binding = 14) buffer qc_FragmentCounts { uint qc_fragment_count[3]; };\n";
     if (sphere)
         m << "\nflat in float qc_radius;\nflat in vec3 qc_center;\nflat in vec3 qc_prim_color;\nflat in vec2 qc_prim_material;\n";
     else
@@ -305,9 +310,12 @@ Stage fragment_shader(const render::QuadricKey& k) {
     else
         m << "layout(location = 0) out vec4 qc_color;\n\n";
     m << fns.str();
-    m << "void main()\n{\n"
-         "    // Behind the occluders at this pixel: nothing of this primitive can show here (quadcast/occlusion.hpp)\n"
-         "    if (qc_early && qc_nearest > 0.0 && floatBitsToUint(qc_nearest) > qc_depth[int(gl_FragCoord.y) * qc_depth_width + int(gl_FragCoord.x)]) discard;\n"
+    m << "void main()\n{\n";
+    if (k.count) m << "    atomicAdd(qc_fragment_count[0], 1u);\n";
+    m << "    // Behind the occluders at this pixel: nothing of this primitive can show here (quadcast/occlusion.hpp)\n"
+         "    if (qc_early && qc_nearest > 0.0 && floatBitsToUint(qc_nearest) > qc_depth[int(gl_FragCoord.y) * qc_depth_width + int(gl_FragCoord.x)]) discard;\n";
+    if (k.count) m << "    atomicAdd(qc_fragment_count[1], 1u);\n";
+    m
       << (sphere ? "" : detail::record_varyings_in())
       << "    bool hit;\n    float depth;\n    vec3 n;\n";
     m << "    vec3 ro, rd;\n";
@@ -323,8 +331,9 @@ Stage fragment_shader(const render::QuadricKey& k) {
           << (slab ? "        qc_record_caps(p),\n" : "")
           << (planes ? "        qc_clip_planes[0], qc_clip_planes[1], qc_clip_planes[2], qc_clip_planes[3],\n" : "")
           << "        ro, rd, qc_vz_row, qc_pz, hit, depth, n);\n";
-    m << "    if (!hit) discard;\n"
-         "    gl_FragDepth = depth;\n";
+    m << "    if (!hit) discard;\n";
+    if (k.count) m << "    atomicAdd(qc_fragment_count[2], 1u);\n";
+    m << "    gl_FragDepth = depth;\n";
     if (gbuffer)
         m << "    qc_gnormal = vec4(n, depth);\n"
              "    qc_gview = vec4(" << eye_vec << ", " << material << ".y);\n"

@@ -112,7 +112,9 @@ void run_bounds_bench(const BoundsBenchOptions& o) {
                 "'reuse': the default options with the last frame's shown set drawn first (RenderOptions::occlusion_reuse; the other columns' frames\n"
                 "interleave options in one renderer and reuse nothing), its own renderer's third and later frames; 'reuse drawn' the primitives\n"
                 "its two phases drew ('*': the frame did not reuse the set: drawn in phases, or too little overlap), 'reuse fs' its\n"
-                "fragment-shader invocations per covered pixel, 'auto/reuse' > 1: the reuse pays;\n"
+                "fragment-shader invocations per covered pixel, and counted fragment by fragment by the stages (QuadricRenderer::fragment_counts)\n"
+                "'started' (rasterised for the drawn primitives), 'shaded' (passed the early discard: cast their ray) and 'hit',\n"
+                "'auto/reuse' > 1: the reuse pays;\n"
                 "spheres: every column draws the sphere variant as point sprites, one vertex per sphere, where they fit (QuadricRenderer::set_point_sprites,\n"
                 "render::sphere_points_fit); 'quads ms': the 'reuse' frames with quads of four vertices instead, in a renderer of its own, 'pts' whether\n"
                 "the 'reuse' frame drew sprites, 'quads/reuse' > 1: the sprites pay\n",
@@ -122,7 +124,7 @@ void run_bounds_bench(const BoundsBenchOptions& o) {
     std::printf(" %9s %11s %9s %9s %11s %8s %8s %8s %7s %9s", "late ms", "late/cull", "comp ms", "c of cp", "cull/comp", "rast ms", "r of cp", "r drawn", "r fs", "cull/rast");
     if (o.sticks) std::printf(" %8s %10s %7s", "rect ms", "rect/tight", "r rast");
     std::printf(" %8s %8s %8s %6s %10s %8s %9s %9s", "overlap", "t layers", "auto ms", "auto", "best/auto", "1ph ms", "1ph drawn", "1ph/cull");
-    std::printf(" %8s %10s %8s %11s", "reuse ms", "reuse drawn", "reuse fs", "auto/reuse");
+    std::printf(" %8s %10s %8s %8s %7s %7s %11s", "reuse ms", "reuse drawn", "reuse fs", "started", "shaded", "hit", "auto/reuse");
     if (!o.sticks) std::printf(" %8s %4s %11s", "quads ms", "pts", "quads/reuse");
     if (o.compare) std::printf(" %16s %14s %14s %15s", "closed cull ms", "sphere/closed", "closed comp ms", "cl. cull/comp");
     std::printf("\n");
@@ -236,6 +238,7 @@ void run_bounds_bench(const BoundsBenchOptions& o) {
         reuse_r.draw(cam, light, reuse);
         reuse_r.set_count_fragments(false);
         const double reuse_frag = static_cast<double>(reuse_r.fragment_invocations());
+        const gl::FragmentCounts reuse_counts = reuse_r.fragment_counts();
         const std::size_t reuse_drawn = reuse_r.drawn_primitives();
         const bool reused = reuse_r.reused_shown_set();
         const long reuse_diff = differing(tight_img, reuse_r.read());
@@ -303,7 +306,8 @@ void run_bounds_bench(const BoundsBenchOptions& o) {
         const double t_one_phase = median(ms_one_phase);
         std::printf(" %8.1f %8.1f%% %8.2fx", t_one_phase, 100.0 * static_cast<double>(one_phase_drawn) / std::max(1, n), t_one_phase / t[2]);
         const double t_reuse = median(ms_reuse);
-        std::printf(" %8.1f %9.1f%%%s %8.2f %10.2fx", t_reuse, 100.0 * static_cast<double>(reuse_drawn) / std::max(1, n), reused ? "" : "*", reuse_frag / covered,
+        std::printf(" %8.1f %9.1f%%%s %8.2f %8.2f %7.2f %7.2f %10.2fx", t_reuse, 100.0 * static_cast<double>(reuse_drawn) / std::max(1, n), reused ? "" : "*",
+                    reuse_frag / covered, double(reuse_counts.started) / covered, double(reuse_counts.cast) / covered, double(reuse_counts.hit) / covered,
                     t_auto / t_reuse);
         if (!o.sticks) std::printf(" %8.1f %4s %10.2fx", median(ms_quads), drew_points ? "yes" : "no", median(ms_quads) / t_reuse);
         if (general) {

@@ -349,9 +349,14 @@ int run_render(const RenderArgs& a) {
                 r.set_count_fragments(false);
                 const render::Image shown = r.read();
                 const auto visible = std::count_if(shown.depth.begin(), shown.depth.end(), [](float d) { return d < 1.0f; });
-                std::printf("%s: %llu fragments shaded for %lld visible pixels (%.2f per visible pixel; llvmpipe shades 4x4 blocks)\n", a.scene.c_str(),
-                            static_cast<unsigned long long>(r.fragment_invocations()), static_cast<long long>(visible),
-                            static_cast<double>(r.fragment_invocations()) / static_cast<double>(std::max<long long>(1, visible)));
+                const gl::FragmentCounts& c = r.fragment_counts();
+                const double per = 1.0 / static_cast<double>(std::max<long long>(1, visible));
+                std::printf("%s: %lld visible pixels; per visible pixel %.2f fragment-shader invocations (%llu; llvmpipe counts and shades all 16 of a "
+                            "4x4 block), and counted fragment by fragment %.2f started (rasterised for the drawn primitives), %.2f shaded "
+                            "(not behind the occluder depth image: cast their ray), %.2f hit\n",
+                            a.scene.c_str(), static_cast<long long>(visible), static_cast<double>(c.invocations) * per,
+                            static_cast<unsigned long long>(c.invocations), static_cast<double>(c.started) * per, static_cast<double>(c.cast) * per,
+                            static_cast<double>(c.hit) * per);
             }
             for (std::size_t i = 0; i < iso.volume_count(); ++i) {
                 const gl::IsoDrawStats& s = iso.stats(i);

@@ -26,6 +26,19 @@ struct Api;
 /// Renders primitives into an offscreen framebuffer (RGBA8 colour, 32-bit float depth) of the
 /// context current when it is constructed, which must outlive it and be current whenever it is
 /// used. Not thread-safe (GL contexts are not). Compiled in quadcast::gl (src/gl/quadric_renderer.cpp).
+/// The fragments of a primitive pass (QuadricRenderer::set_count_fragments).
+struct FragmentCounts {
+    /// Fragment-shader invocations (GL_ARB_pipeline_statistics_query,
+    /// GL_FRAGMENT_SHADER_INVOCATIONS): what the driver counts; llvmpipe counts all 16 of each 4x4
+    /// block that has a fragment (and shades them, masked), a GPU its 2x2 quads.
+    std::uint64_t invocations = 0;
+    /// Counted fragment by fragment by the stages: the fragments rasterised for the drawn
+    /// primitives (the stage started), those of them not behind the occluder depth image (the
+    /// early discard: they cast their ray), and those whose ray hit the primitive (they reach
+    /// the depth test).
+    std::uint64_t started = 0, cast = 0, hit = 0;
+};
+
 class QuadricRenderer {
 public:
     /// Makes the renderer's vertex array and buffers in the current context (`api`: its function
@@ -91,11 +104,15 @@ public:
     void set_dispatch_row_limit(std::uint32_t groups);
     /// Samples that passed (GL_SAMPLES_PASSED) in the primitive pass of the last `draw`.
     std::uint64_t samples_passed() const;
-    /// Count fragment-shader invocations of the primitive pass (GL_ARB_pipeline_statistics_query,
-    /// GL_FRAGMENT_SHADER_INVOCATIONS) in the next draws; off by default. Throws
-    /// std::runtime_error when the context does not have the extension.
+    /// Count the fragments of the primitive pass (the quadric primitives, not the added passes) in
+    /// the next draws (`fragment_counts`); off by default: the pass then uses counting variants of
+    /// its fragment stages (an atomic add per fragment at three points; the same picture, slower:
+    /// not for timed frames). Throws std::runtime_error when the context does not have
+    /// GL_ARB_pipeline_statistics_query.
     void set_count_fragments(bool on);
-    /// Fragment-shader invocations of the primitive pass of the last `draw` (with `set_count_fragments`).
+    /// The fragment counts of the primitive pass of the last `draw` with `set_count_fragments`.
+    const FragmentCounts& fragment_counts() const;
+    /// fragment_counts().invocations.
     std::uint64_t fragment_invocations() const;
     /// Other geometry (e.g. isosurfaces) drawn in every pass after the primitives; `p` must
     /// outlive its use here. `clear_passes` removes them.

@@ -80,6 +80,10 @@ struct QuadricKey {
     /// The sphere variant drawn as point sprites, one vertex per sphere (QuadricRenderer, where
     /// `render::sphere_points_fit`), instead of quads of four.
     bool points = false;
+    /// Counts the stage's fragments one by one (QuadricRenderer::set_count_fragments; a
+    /// measurement, not for frames that are timed): an atomic add per fragment where it starts,
+    /// where it passes the early discard against the occluder depth image, and where its ray hits.
+    bool count = false;
     friend constexpr bool operator==(const QuadricKey&, const QuadricKey&) = default;
 };
 
@@ -89,6 +93,7 @@ struct QuadricKey {
 constexpr QuadricKey canonical(QuadricKey k) {
     if (k.gbuffer || k.stage != FragmentStage::incremental) k.environment = false;
     if (k.shape != FragmentShape::sphere || k.stage == FragmentStage::brute_force) k.points = false;
+    if (k.stage != FragmentStage::incremental) k.count = false;
     if (k.stage == FragmentStage::passthrough) {
         k.cull = true;
         if (k.shape != FragmentShape::sphere) k.shape = FragmentShape::ellipsoid;
@@ -97,8 +102,8 @@ constexpr QuadricKey canonical(QuadricKey k) {
 }
 
 constexpr QuadricKey quadric_key(Variant v, bool culling, bool ortho, bool gbuffer, bool environment,
-                                 FragmentStage stage = FragmentStage::incremental, bool points = false) {
-    return canonical(QuadricKey{fragment_shape(v), cast_options(v, culling).cull, ortho, gbuffer, environment, stage, points});
+                                 FragmentStage stage = FragmentStage::incremental, bool points = false, bool count = false) {
+    return canonical(QuadricKey{fragment_shape(v), cast_options(v, culling).cull, ortho, gbuffer, environment, stage, points, count});
 }
 
 /// Throws std::invalid_argument naming why no stages exist for `k`.
@@ -180,6 +185,7 @@ inline std::string key_name(const QuadricKey& k) {
     if (k.stage == FragmentStage::brute_force) s += ":brute";
     if (k.stage == FragmentStage::passthrough) s += ":passthrough";
     if (k.points) s += ":points";
+    if (k.count) s += ":count";
     return s;
 }
 inline std::string key_name(const DeferredKey& k) {
@@ -241,6 +247,11 @@ inline std::vector<QuadricKey> all_quadric_keys() {
                         for (bool env : {false, true})
                             if (!(gbuffer && env)) out.push_back({s, cull, ortho, gbuffer, env, FragmentStage::incremental, true});
                 if (!ortho && s != FragmentShape::sphere) out.push_back({s, cull, false, false, false, FragmentStage::brute_force});
+                // (the counting stages of forward shading and of the geometry buffer)
+                for (bool gbuffer : {false, true}) {
+                    out.push_back({s, cull, ortho, gbuffer, false, FragmentStage::incremental, false, true});
+                    if (s == FragmentShape::sphere) out.push_back({s, cull, ortho, gbuffer, false, FragmentStage::incremental, true, true});
+                }
             }
     for (bool ortho : {false, true})
         for (FragmentShape s : {FragmentShape::ellipsoid, FragmentShape::sphere}) {
