@@ -124,6 +124,8 @@ public:
         api.GenBuffers(1, &keep2_);
         api.GenBuffers(1, &groups2_);
         api.GenBuffers(1, &commands2_);
+        api.GenBuffers(1, &tiles_);
+        api.GenBuffers(1, &tile_command_);
         GLfloat sizes[2] = {1.0f, 1.0f};
         api.GetFloatv(GL_POINT_SIZE_RANGE, sizes);
         max_point_size_ = sizes[1];
@@ -133,6 +135,8 @@ public:
         release_shadow_map();
         release_fbo();
         api_->DeleteBuffers(1, &ssbo_);
+        api_->DeleteBuffers(1, &tiles_);
+        api_->DeleteBuffers(1, &tile_command_);
         api_->DeleteBuffers(1, &planes_);
         api_->DeleteBuffers(1, &indices_);
         api_->DeleteBuffers(1, &occluders_);
@@ -195,6 +199,7 @@ public:
         point_sprites_ = on;
         ++revision_;
     }
+    void set_outline_tiles(bool on) { outline_tiles_ = on; }
     /// Whether the last `draw_primitives` drew the sphere variant as point sprites.
     bool drew_points() const { return points_; }
     void set_dispatch_row_limit(std::uint32_t groups) {
@@ -1116,11 +1121,33 @@ private:
         // wherever nothing was hit, too.
         // (A pixel whose depth fails both tests, which only a pass writing gl_FragDepth at or beyond
         // the far plane can leave, keeps the background colour the target is cleared to.)
+        // Without outlines the background program draws only the background colour, which the
+        // target is cleared to: no background draw. With them, only the tiles where an outline
+        // may show (OcclusionPass::outline_tiles), unless `set_outline_tiles(false)`.
         const bool split = depth_test_;
+        const bool tiles = split && opt.silhouettes && outline_tiles_;
         const render::DeferredKey shading{opt.shadows, opt.silhouettes, opt.environment != nullptr, false};
-        const render::DeferredKey background{false, opt.silhouettes, false, true};
+        const render::DeferredKey background{false, opt.silhouettes, false, true, tiles};
         const std::pair<render::DeferredKey, const Program*> passes[2] = {{shading, &programs_.get(shading)},  // (compiled before any state changes)
-                                                                          {background, split ? &programs_.get(background) : nullptr}};
+                                                                          {background, split && opt.silhouettes ? &programs_.get(background) : nullptr}};
+        if (tiles) {
+            // The tiles' list and its draw command (the count zeroed), from the normal target (unit 0)
+            const Program& list = programs_.get(render::OcclusionKey{render::OcclusionPass::outline_tiles});
+            const auto tw = static_cast<std::uint32_t>((opt.width + 7) / 8), th = static_cast<std::uint32_t>((opt.height + 7) / 8);
+            if (tw * th > tile_capacity_) {
+                upload(tiles_, std::vector<std::uint32_t>(tw * th));
+                tile_capacity_ = tw * th;
+            }
+            const std::uint32_t command[4] = {0, 1, 0, 0};
+            upload(tile_command_, std::vector<std::uint32_t>(std::begin(command), std::end(command)));
+            gl.UseProgram(list.id());
+            gl.Uniform2ui(list.uniform_location("qc_size"), static_cast<GLuint>(opt.width), static_cast<GLuint>(opt.height));
+            gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, tiles_);
+            gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, tile_command_);
+            gl.DispatchCompute((tw + 7) / 8, (th + 7) / 8, 1);
+            gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+            gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, 0);
+        }
         if (split) {
             const float bg[4] = {opt.background[0], opt.background[1], opt.background[2], 1.0f};
             gl.ClearBufferfv(GL_COLOR, 0, bg);
@@ -1130,7 +1157,7 @@ private:
         } else {
             gl.Disable(GL_DEPTH_TEST);
         }
-        for (const auto& [key, program] : std::span(passes, split ? 2 : 1)) {
+        for (const auto& [key, program] : std::span(passes, passes[1].second ? 2 : 1)) {
             const Program& prog = *program;
             gl.UseProgram(prog.id());
             gl.Uniform3fv(prog.uniform_location("qc_background"), 1, opt.background.c);
@@ -1159,7 +1186,16 @@ private:
                 gl.Uniform1i(prog.require_uniform("qc_pcf_samples"), static_cast<GLint>(std::size(pcf_grid_order)));
             }
             if (split) gl.DepthFunc(key.background ? GL_EQUAL : GL_GREATER);
-            gl.DrawArrays(GL_TRIANGLES, 0, 3);
+            if (key.tiles) {
+                gl.Uniform2f(prog.uniform_location("qc_viewport"), static_cast<float>(opt.width), static_cast<float>(opt.height));
+                gl.Enable(GL_PROGRAM_POINT_SIZE);
+                gl.BindBuffer(GL_DRAW_INDIRECT_BUFFER, tile_command_);
+                gl.DrawArraysIndirect(GL_POINTS, nullptr);
+                gl.BindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
+                gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, 0);
+            } else {
+                gl.DrawArrays(GL_TRIANGLES, 0, 3);
+            }
         }
         if (split) {
             gl.DepthRangef(0.0f, 1.0f);
@@ -1289,6 +1325,9 @@ private:
     const Api* api_;
     GLuint vao_ = 0, ssbo_ = 0, planes_ = 0, indices_ = 0, fbo_ = 0, tex_[2] = {0, 0};
     GLuint gfbo_ = 0, gtex_[3] = {0, 0, 0};  ///< geometry buffer of deferred shading
+    GLuint tiles_ = 0, tile_command_ = 0;     ///< the deferred pass's outline tiles and their draw command
+    std::uint32_t tile_capacity_ = 0;
+    bool outline_tiles_ = true;
     GLuint sfbo_ = 0, stex_ = 0;             ///< shadow map
     GLuint etex_ = 0;                        ///< environment map
     GLuint occluders_ = 0, depths_ = 0, visible_ = 0, commands_ = 0, keep_ = 0, groups_ = 0;  ///< occlusion culling
@@ -1367,6 +1406,7 @@ void QuadricRenderer::set_depth_test(bool on) { impl_->set_depth_test(on); }
 void QuadricRenderer::set_slab_quads(bool on) { impl_->set_slab_quads(on); }
 void QuadricRenderer::set_early_discard(bool on) { impl_->set_early_discard(on); }
 void QuadricRenderer::set_compute_bounds(bool on) { impl_->set_compute_bounds(on); }
+void QuadricRenderer::set_outline_tiles(bool on) { impl_->set_outline_tiles(on); }
 void QuadricRenderer::set_raster_occluders(bool on) { impl_->set_raster_occluders(on); }
 void QuadricRenderer::set_point_sprites(bool on) { impl_->set_point_sprites(on); }
 bool QuadricRenderer::drew_points() const { return impl_->drew_points(); }

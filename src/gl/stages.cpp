@@ -831,9 +831,43 @@ Stage bounds_shader(bool sphere, bool ortho) {
 
 namespace {
 
+/// The deferred pass's outline tiles: per 8 x 8 tile of the image, whether the background program
+/// can draw anything but the background colour there. Its outline at a pixel reads only the
+/// geometry buffer's normal target over the 3 x 3 neighbourhood (clamped to the image), and where
+/// all nine texels hold the cleared value (0, 0, 0, 1) it is zero (`silhouette_weight`: equal
+/// depths, zero normals) and the colour the background. So a tile is listed (its x | y << 16, in
+/// any order) when a texel of it grown by one pixel differs from the cleared value, and its count
+/// goes into a DrawArraysIndirectCommand (count, 1, 0, 0; zeroed by the renderer).
+const char* const outline_tiles_shader =
+    "layout(local_size_x = 8, local_size_y = 8) in;\n\n"
+    "layout(binding = 0) uniform sampler2D qc_gnormal;  // normal, window depth (cleared to (0, 0, 0, 1))\n"
+    "layout(std430, binding = 0) writeonly buffer qc_Tiles { uint qc_tile[]; };\n"
+    "layout(std430, binding = 1) buffer qc_TileCommand { uint qc_tile_command[4]; };\n"
+    "uniform uvec2 qc_size;  // the viewport\n\n"
+    "void main()\n{\n"
+    "    uvec2 t = gl_GlobalInvocationID.xy;\n"
+    "    if (t.x >= (qc_size.x + 7u) / 8u || t.y >= (qc_size.y + 7u) / 8u) return;\n"
+    "    ivec2 lo = max(ivec2(t * 8u) - 1, ivec2(0));\n"
+    "    ivec2 hi = min(ivec2(t * 8u) + 8, ivec2(qc_size) - 1);\n"
+    "    bool geometry = false;\n"
+    "    for (int y = lo.y; y <= hi.y && !geometry; ++y)\n"
+    "        for (int x = lo.x; x <= hi.x; ++x)\n"
+    "            if (texelFetch(qc_gnormal, ivec2(x, y), 0) != vec4(0.0, 0.0, 0.0, 1.0)) {\n"
+    "                geometry = true;\n"
+    "                break;\n"
+    "            }\n"
+    "    if (geometry) qc_tile[atomicAdd(qc_tile_command[0], 1u)] = t.x | (t.y << 16);\n"
+    "}\n";
+
 /// The compute stage of an occlusion pass.
 StageText occlusion_stage(const render::OcclusionKey& k) {
     switch (k.pass) {
+    case render::OcclusionPass::outline_tiles: {
+        Stage p;
+        p.text = outline_tiles_shader;
+        return stage_text(StageText::Kind::compute, "qc_outline_tiles.comp", p,
+                          "deferred shading: the 8 x 8 tiles where the background's outlines may differ from the background colour");
+    }
     case render::OcclusionPass::occluder_raster:
         break;  // (two stages: program_stages)
     case render::OcclusionPass::element_cull_cubes:
@@ -929,13 +963,29 @@ std::vector<StageText> program_stages(const render::QuadricKey& key) {
     return out;
 }
 
+/// The deferred background pass over the outline tiles: one point per listed tile, 8 pixels square
+/// on it (a partial tile at the image's right or top edge: the point moved inwards to keep its
+/// centre in the view, where GL clips points; it then also covers pixels of the tile beside it,
+/// which the program draws the same way).
+const char* const outline_tile_vertex =
+    "layout(std430, binding = 0) readonly buffer qc_Tiles { uint qc_tile[]; };\n"
+    "uniform vec2 qc_viewport;\n\n"
+    "void main()\n{\n"
+    "    uint t = qc_tile[gl_VertexID];\n"
+    "    vec2 c = min(vec2(float(t & 0xffffu), float(t >> 16)) * 8.0 + 4.0, max(qc_viewport - 4.0, qc_viewport * 0.5));\n"
+    "    gl_Position = vec4(c / qc_viewport * 2.0 - 1.0, 0.0, 1.0);\n"
+    "    gl_PointSize = 8.0;\n"
+    "}\n";
+
 std::vector<StageText> program_stages(const render::DeferredKey& k) {
     Stage v;
-    v.text = detail::fullscreen_vertex;
+    v.text = k.tiles ? outline_tile_vertex : detail::fullscreen_vertex;
     if (k.background && (k.shadows || k.environment)) throw std::invalid_argument("quadcast::gl::program_stages: the deferred background pass has no shading");
+    if (k.tiles && !(k.background && k.silhouettes)) throw std::invalid_argument("quadcast::gl::program_stages: only the deferred background pass with outlines is drawn over tiles");
     const std::string dname = std::string("qc_deferred") + (k.shadows ? "_shadows" : "") + (k.silhouettes ? "_silhouettes" : "") + (k.environment ? "_environment" : "") +
                               (k.background ? "_background" : "") + ".frag";
-    return {stage_text(StageText::Kind::vertex, "qc_fullscreen.vert", v, "deferred shading: full-screen triangle"),
+    return {k.tiles ? stage_text(StageText::Kind::vertex, "qc_outline_tiles.vert", v, "deferred shading: a point on each outline tile")
+                    : stage_text(StageText::Kind::vertex, "qc_fullscreen.vert", v, "deferred shading: full-screen triangle"),
             stage_text(StageText::Kind::fragment, dname, deferred_shader(k.silhouettes, k.shadows, k.environment, k.background),
                        std::string(k.background ? "deferred shading: the background's pixels" : "deferred shading: Blinn-Phong from the geometry buffer") + (k.shadows ? ", soft shadows (64-sample PCF, 8-sample early-out)" : "") +
                            (k.silhouettes ? ", silhouette and crease outlines" : "") + (k.environment ? ", environment reflection" : ""))};

@@ -221,3 +221,61 @@ TEST_CASE("soft shadows only darken, and the GL and CPU renderers agree on them"
         CHECK(differ <= covered / 50);
     }
 }
+
+TEST_CASE("the background's outlines drawn over the listed tiles only: the picture of the full-screen draw") {
+    // QuadricRenderer::set_outline_tiles: the compute pass lists the 8x8 tiles where a pixel or a
+    // neighbour holds geometry, and only they run the background program; the rest keep the
+    // cleared background colour. Image sizes that are not multiples of 8 (partial tiles at the
+    // right and top edges) and below one tile, primitives across the image's edges, shadows on and
+    // off, perspective and orthographic: the same bytes and depths as the full-screen draw.
+    gl::OsmesaContext ctx;
+    gl::QuadricRenderer r(ctx.api());
+    r.set_primitives(qc_render_test::mixed_scene(13, {60, 30, 10, true, false}));
+    Light light;
+    light.direction = vec3(-0.4f, -0.6f, -1.0f);
+    struct Size { int w, h; };
+    long outlined_total = 0;
+    for (const Size size : {Size{240, 180}, Size{237, 173}, Size{5, 3}, Size{1021, 9}})
+        for (bool ortho : {false, true})
+            for (bool close : {false, true})
+                for (bool shadows : {false, true}) {
+                    RenderOptions o;
+                    o.width = size.w;
+                    o.height = size.h;
+                    o.deferred = true;
+                    o.silhouettes = true;
+                    o.shadows = shadows;
+                    o.background = vec3(0.9f, 0.95f, 1.0f);
+                    const Camera cam = close ? qc_render_test::look_at(vec3(0.3, 0.6, 4.0), vec3(0.0, 0.0, 0.0), vec3(0.0, 1.0, 0.0),
+                                                                       ortho ? qc_render_test::orthographic(-2, 2, -1.5, 1.5, 1, 20)
+                                                                             : qc_render_test::perspective(40, double(size.w) / size.h, 1, 20),
+                                                                       ortho)
+                                             : test_camera(ortho);
+                    r.set_outline_tiles(true);
+                    r.draw(cam, light, o);
+                    const Image tiles = r.read();
+                    r.set_outline_tiles(false);
+                    r.draw(cam, light, o);
+                    const Image full = r.read();
+                    r.set_outline_tiles(true);
+                    long differ = 0, depth_differ = 0, outlined = 0, covered = 0;
+                    for (std::size_t i = 0; i < full.depth.size(); ++i) {
+                        differ += std::memcmp(&tiles.rgba[i * 4], &full.rgba[i * 4], 4) != 0;
+                        depth_differ += tiles.depth[i] != full.depth[i];
+                        covered += full.depth[i] < 1.0f;
+                        // a background pixel darkened by an outline (the background colour is (230, 242, 255))
+                        outlined += full.depth[i] >= 1.0f && full.rgba[i * 4 + 2] < 250;
+                    }
+                    outlined_total += outlined;
+                    CAPTURE(size.w);
+                    CAPTURE(size.h);
+                    CAPTURE(ortho);
+                    CAPTURE(close);
+                    CAPTURE(shadows);
+                    CHECK(differ == 0);
+                    CHECK(depth_differ == 0);
+                    if (size.w * size.h > 1000) CHECK(covered > 0);
+                    if (size.w == 240 || size.w == 237) CHECK(outlined > 100);
+                }
+    std::printf("[deferred] outline tiles: %ld background px outlined over all frames, each frame the same as the full-screen draw\n", outlined_total);
+}

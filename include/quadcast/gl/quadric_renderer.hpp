@@ -79,6 +79,11 @@ public:
     /// computes them, once per corner. The same picture; a benchmark switch. Off by default
     /// because it did not pay on llvmpipe: `quadcast bench spheres` / `bench sticks`, column 'comp'.
     void set_compute_bounds(bool on);
+    /// Deferred shading with outlines (RenderOptions::silhouettes) and the depth test: the
+    /// background's pixels get their outlines only in the 8 x 8 tiles where one may show, listed by
+    /// a compute pass (a tile of which a pixel, or a neighbour of one, holds geometry) and drawn as
+    /// one point each (the default); off, over the whole image. The same picture; a test switch.
+    void set_outline_tiles(bool on);
     /// In frames that run the cull pass (`cull_pass_ran`), the occluders reach its depth image by a
     /// compute pass that writes each occluder's disks pixel by pixel (the default), or, on, drawn by
     /// the rasteriser into the depth buffer first (one quadrilateral per record,

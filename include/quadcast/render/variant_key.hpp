@@ -124,6 +124,9 @@ struct DeferredKey {
     /// The background's pixels only (the renderer selects them by the depth test): the background
     /// colour and, with `silhouettes`, the outlines; no shading (shadows and environment false).
     bool background = false;
+    /// With `background` and `silhouettes`: drawn as one point per tile of the outline tiles'
+    /// list (OcclusionPass::outline_tiles) instead of one full-screen triangle.
+    bool tiles = false;
     friend constexpr bool operator==(const DeferredKey&, const DeferredKey&) = default;
 };
 
@@ -142,7 +145,9 @@ struct DeferredKey {
 /// cube) or trilinear cell (`element_cull_tets`, `element_cull_cells`) and the copy of
 /// the kept ones into the frame's element list (`element_compact`), around `scan`; its occlusion
 /// culling the copy of a later phase's kept elements into the survivors' list (`phase_compact`).
-enum class OcclusionPass : std::uint8_t { occluders, pyramid, cull, scan, compact, bounds, depth_image, occluder_raster, element_cull_cubes, element_cull_tets, element_cull_cells, element_compact, phase_compact };
+/// The deferred pass lists the tiles of the image whose outlines may differ from the background
+/// (`outline_tiles`; the background's pixels elsewhere keep the colour they are cleared to).
+enum class OcclusionPass : std::uint8_t { occluders, pyramid, cull, scan, compact, bounds, depth_image, occluder_raster, element_cull_cubes, element_cull_tets, element_cull_cells, element_compact, phase_compact, outline_tiles };
 struct OcclusionKey {
     OcclusionPass pass = OcclusionPass::occluders;
     bool sphere = false;  ///< `bounds`: of the sphere-specialised vertex stage; `cull`: for the bounding sphere's rectangle (every bound but the ellipsoid and slab ones)
@@ -190,7 +195,7 @@ inline std::string key_name(const QuadricKey& k) {
 }
 inline std::string key_name(const DeferredKey& k) {
     return std::string("deferred") + (k.shadows ? ":shadows" : "") + (k.silhouettes ? ":silhouettes" : "") + (k.environment ? ":environment" : "") +
-           (k.background ? ":background" : "");
+           (k.background ? ":background" : "") + (k.tiles ? ":tiles" : "");
 }
 inline std::string key_name(const IsoKey& k) {
     return std::string("iso:") + volume_scheme_name(k.scheme) + (k.ortho ? ":ortho" : ":perspective") + (k.gbuffer ? ":gbuffer" : "") +
@@ -200,7 +205,8 @@ inline std::string key_name(const IsoKey& k) {
 inline std::string key_name(const OcclusionKey& k) {
     const char* pass = k.pass == OcclusionPass::occluders ? "occluders" : k.pass == OcclusionPass::pyramid ? "pyramid" : k.pass == OcclusionPass::cull ? "cull" : k.pass == OcclusionPass::scan ? "scan" : k.pass == OcclusionPass::compact ? "compact" : k.pass == OcclusionPass::depth_image ? "depth_image" : k.pass == OcclusionPass::occluder_raster ? "occluder_raster"
                      : k.pass == OcclusionPass::element_cull_cubes ? "element_cull_cubes" : k.pass == OcclusionPass::element_cull_tets ? "element_cull_tets" : k.pass == OcclusionPass::element_cull_cells ? "element_cull_cells"
-                     : k.pass == OcclusionPass::element_compact ? "element_compact" : k.pass == OcclusionPass::phase_compact ? "phase_compact" : "bounds";
+                     : k.pass == OcclusionPass::element_compact ? "element_compact" : k.pass == OcclusionPass::phase_compact ? "phase_compact"
+                     : k.pass == OcclusionPass::outline_tiles ? "outline_tiles" : "bounds";
     if (k.pass == OcclusionPass::cull) return std::string("occlusion:") + pass + (k.sphere ? ":sphere" : ":ellipsoid_slab");
     if (k.pass != OcclusionPass::bounds) return std::string("occlusion:") + pass;
     return std::string("occlusion:") + pass + (k.sphere ? ":sphere" : ":quadric") + (k.ortho ? ":ortho" : ":perspective");
@@ -227,7 +233,7 @@ inline std::vector<OcclusionKey> all_occlusion_keys() {
     std::vector<OcclusionKey> out{{OcclusionPass::occluders}, {OcclusionPass::pyramid}, {OcclusionPass::cull, false}, {OcclusionPass::cull, true}, {OcclusionPass::scan}, {OcclusionPass::compact},
                                   {OcclusionPass::depth_image}, {OcclusionPass::occluder_raster},
                                   {OcclusionPass::element_cull_cubes}, {OcclusionPass::element_cull_tets}, {OcclusionPass::element_cull_cells}, {OcclusionPass::element_compact},
-                                  {OcclusionPass::phase_compact}};
+                                  {OcclusionPass::phase_compact}, {OcclusionPass::outline_tiles}};
     for (bool sphere : {false, true})
         for (bool ortho : {false, true}) out.push_back({OcclusionPass::bounds, sphere, ortho});
     return out;
@@ -267,6 +273,7 @@ inline std::vector<DeferredKey> all_deferred_keys() {
         for (bool shadows : {false, true})
             for (bool sil : {false, true}) out.push_back({shadows, sil, env, false});
     for (bool sil : {false, true}) out.push_back({false, sil, false, true});
+    out.push_back({false, true, false, true, true});
     return out;
 }
 
