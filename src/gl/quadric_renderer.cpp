@@ -930,7 +930,9 @@ private:
             gl.BindTextureUnit(5, ph.depth_target);
             gl.Uniform1i(dp.uniform_location("qc_depth_buffer"), 5);
             gl.Uniform2ui(dp.uniform_location("qc_size"), w, h);
-            gl.DispatchCompute(groups(w, 8), groups(h, 8), 1);
+            const auto& l1 = levels[std::min<std::size_t>(1, levels.size() - 1)];
+            gl.Uniform3ui(dp.uniform_location("qc_level1"), l1[0], l1[1], l1[2]);
+            gl.DispatchCompute(groups(l1[1], 8), groups(l1[2], 8), 1);
             gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
             gl.BindTextureUnit(5, 0);
         }
@@ -955,7 +957,8 @@ private:
         }
         gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
         // 2. The max-depth pyramid.
-        if (ph.reuse != 1) build_pyramid(gl, programs_.get(render::OcclusionKey{render::OcclusionPass::pyramid}), levels);
+        // (from level 2 after the depth image, which wrote level 1)
+        if (ph.reuse != 1) build_pyramid(gl, programs_.get(render::OcclusionKey{render::OcclusionPass::pyramid}), levels, from_depth ? 1 : 0);
         // 3. The cull pass, from zeroed commands (and, in the first phase, zeroed counts).
         std::uint32_t cmds[5 * render::variant_count + 2] = {};  // the commands, then the counts of culled primitives
         for (int v = 0; v < render::variant_count; ++v) {

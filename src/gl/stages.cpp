@@ -588,7 +588,10 @@ Stage occluder_raster_shader() {
 /// Occlusion pass 1 of a later phase of phased drawing: each pixel of the depth image takes the
 /// view distance of what the depth buffer now holds there (`depth_distance`, no nearer than it)
 /// where that is nearer than its value; the background and what lies at the far plane leave it.
-/// What is drawn later can only bring a pixel nearer, so the value stays conservative.
+/// What is drawn later can only bring a pixel nearer, so the value stays conservative. One
+/// invocation per 2 x 2 pixels, which also writes their texel of pyramid level 1 (the largest of
+/// the four, indices clamped to the image as the pyramid pass clamps them): a quarter of the
+/// invocations, and no pyramid pass for level 1.
 Stage depth_image_shader() {
     Stage s;
     std::ostringstream fns;
@@ -598,16 +601,27 @@ Stage depth_image_shader() {
          "layout(std430, binding = 3) buffer qc_Depths { uint qc_depth[]; };\n"
          "uniform sampler2D qc_depth_buffer;  // the bound framebuffer's depth target (window depths)\n"
          "uniform uvec2 qc_size;              // the viewport, level 0 of the depth image\n"
-         "uniform vec4 qc_pz;                 // P22, P32, P23, P33 of the projection\n\n"
+         "uniform vec4 qc_pz;                 // P22, P32, P23, P33 of the projection\n"
+         "uniform uvec3 qc_level1;            // offset, width, height of pyramid level 1 (a 1 x 1 image: level 0)\n\n"
       << fns.str()
       << "void main()\n{\n"
-         "    uvec2 t = gl_GlobalInvocationID.xy;\n"
-         "    if (t.x >= qc_size.x || t.y >= qc_size.y) return;\n"
-         "    float s;\n    bool far;\n"
-         "    qc_depth_distance(texelFetch(qc_depth_buffer, ivec2(t), 0).r, qc_pz, s, far);\n"
-         "    if (far || !(s > 0.0)) return;\n"
-         "    uint at = t.y * qc_size.x + t.x;\n"
-         "    qc_depth[at] = min(qc_depth[at], floatBitsToUint(s));\n"
+         "    uvec2 t = gl_GlobalInvocationID.xy;  // a texel of level 1\n"
+         "    if (t.x >= qc_level1.y || t.y >= qc_level1.z) return;\n"
+         "    uint m = 0u;\n"
+         "    for (uint dy = 0u; dy < 2u; ++dy)\n"
+         "        for (uint dx = 0u; dx < 2u; ++dx) {\n"
+         "            uvec2 p = min(2u * t + uvec2(dx, dy), qc_size - 1u);\n"
+         "            uint at = p.y * qc_size.x + p.x;\n"
+         "            uint v = qc_depth[at];\n"
+         "            float s;\n            bool far;\n"
+         "            qc_depth_distance(texelFetch(qc_depth_buffer, ivec2(p), 0).r, qc_pz, s, far);\n"
+         "            if (!far && s > 0.0 && floatBitsToUint(s) < v) {\n"
+         "                v = floatBitsToUint(s);\n"
+         "                qc_depth[at] = v;\n"
+         "            }\n"
+         "            m = max(m, v);\n"
+         "        }\n"
+         "    qc_depth[qc_level1.x + t.y * qc_level1.y + t.x] = m;\n"
          "}\n";
     s.text = m.str();
     return s;

@@ -31,12 +31,12 @@ inline std::size_t pyramid_texels(const std::vector<std::array<std::uint32_t, 3>
     return std::size_t(l[0]) + std::size_t(l[1]) * l[2];
 }
 
-/// Levels 1 .. of a pyramid whose level 0 is written, in the buffer bound at binding 3, each the
-/// max of the texels below it (`pyr`: the program of OcclusionPass::pyramid), with the barriers
-/// between them and after the last.
-inline void build_pyramid(const Api& gl, const Program& pyr, const std::vector<std::array<std::uint32_t, 3>>& levels) {
+/// Levels `written` + 1 .. of a pyramid whose levels up to `written` are written, in the buffer
+/// bound at binding 3, each the max of the texels below it (`pyr`: the program of
+/// OcclusionPass::pyramid), with the barriers between them and after the last.
+inline void build_pyramid(const Api& gl, const Program& pyr, const std::vector<std::array<std::uint32_t, 3>>& levels, std::size_t written = 0) {
     gl.UseProgram(pyr.id());
-    for (std::size_t l = 1; l < levels.size(); ++l) {
+    for (std::size_t l = written + 1; l < levels.size(); ++l) {
         gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
         gl.Uniform3ui(pyr.uniform_location("qc_src"), levels[l - 1][0], levels[l - 1][1], levels[l - 1][2]);
         gl.Uniform3ui(pyr.uniform_location("qc_dst"), levels[l][0], levels[l][1], levels[l][2]);
