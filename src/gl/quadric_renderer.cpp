@@ -821,18 +821,22 @@ public:
             const auto listed = static_cast<GLsizei>(ph.listed ? ph.listed->counts[static_cast<std::size_t>(v)] : 0u);
             if (ph.listed && listed == 0) continue;
             const bool points = points_ && variant == render::Variant::sphere;
-            const Program& prog = program(variant, opt.culling, cam.orthographic, deferred, opt.environment != nullptr, points);
+            // The early discard (QuadricKey::early): not the planes variant unless all its patches
+            // show only inside their bounding balls (a bilinear patch may reach out of its ball
+            // inside its quad), nor the sphere variant, whose cast costs about what the test does
+            // (bench spheres: 0.85-0.99x).
+            const bool early = indirect && early_discard_ && (variant != render::Variant::planes || planes_in_ball_) && variant != render::Variant::sphere;
+            // The program: forward (with the environment reflection) or into the geometry buffer, for
+            // the fragment stage set by `set_fragment_stage` (only the incremental one has the early
+            // discard: key.early), counting in `draw`'s counted pass (compiled on first use).
+            const render::QuadricKey key = render::quadric_key(variant, opt.culling, cam.orthographic, deferred, opt.environment != nullptr, stage_, points, counting_, early);
+            const Program& prog = programs_.get(key);
             gl.UseProgram(prog.id());
             set_uniforms(prog, cam, light, opt, viewport[2], viewport[3]);
             set_bound_uniforms(prog, variant, cam, opt);
             gl.Uniform1i(prog.uniform_location("qc_indirect"), cull_pass ? 1 : 0);  // (the visible list, or the shown set's)
             gl.Uniform1i(prog.uniform_location("qc_fetch"), indirect && compute_bounds_ ? 1 : 0);
-            // Not the planes variant unless all its patches show only inside their bounding balls
-            // (a bilinear patch may reach out of its ball inside its quad), nor the sphere variant,
-            // whose cast costs about what the test does (bench spheres: 0.85-0.99x).
-            const bool early = indirect && early_discard_ && (variant != render::Variant::planes || planes_in_ball_) && variant != render::Variant::sphere;
-            gl.Uniform1i(prog.uniform_location("qc_early"), early ? 1 : 0);
-            gl.Uniform1i(prog.uniform_location("qc_depth_width"), viewport[2]);
+            if (key.early) gl.Uniform1i(prog.require_uniform("qc_depth_width"), viewport[2]);
             if (points) {
                 // (the cull pass wrote a DrawArraysIndirectCommand: count, 1, first = qc_first, 0)
                 gl.Enable(GL_PROGRAM_POINT_SIZE);
@@ -1099,13 +1103,6 @@ private:
         gl.Uniform1i(prog.uniform_location("qc_cull"), cull && !cam.orthographic ? 1 : 0);
         gl.Uniform1ui(prog.uniform_location("qc_first"), ranges_[static_cast<int>(variant)].first);
         gl.Uniform1i(prog.uniform_location("qc_caps"), variant == render::Variant::slab ? 1 : 0);
-    }
-
-    /// The program of variant `v`: forward (with `env`, environment reflection) or, with
-    /// `gbuffer`, the geometry-buffer stages (which do not shade), for the fragment stage set by
-    /// `set_fragment_stage` (compiled on first use).
-    const Program& program(render::Variant v, bool culling, bool ortho, bool gbuffer = false, bool env = false, bool points = false) {
-        return programs_.get(render::quadric_key(v, culling, ortho, gbuffer, env, stage_, points, counting_));
     }
 
     /// The deferred pass: full-screen triangles into the colour target (no depth writes; the depth

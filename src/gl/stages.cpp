@@ -255,8 +255,9 @@ Stage sphere_vertex_shader(bool ortho, bool points) {
 /// buffer of the deferred pass (Sigg et al. 2006, sec. 4): normal and window depth, ray direction
 /// (the shading's eye vector) and colour.
 /// With `env`, forward shading mixes in the environment reflection (`qc_reflect_environment`).
-/// With `count`, atomic adds count the fragments that start, that pass the early discard and
-/// cast their ray, and whose ray hits (binding 14).
+/// With `early`, the fragment is first discarded where the primitive's nearest distance lies behind
+/// the cull pass's depth image. With `count`, atomic adds count the fragments that start, that
+/// pass the early discard and cast their ray, and whose ray hits (binding 14).
 Stage fragment_shader(const render::QuadricKey& k) {
     Stage s;
     const bool ortho = k.ortho, gbuffer = k.gbuffer, env = k.environment;
@@ -290,12 +291,12 @@ Stage fragment_shader(const render::QuadricKey& k) {
         m << "uniform vec3 qc_light_dir;    // towards the scene\nuniform vec3 qc_light_color;\n"
              "uniform vec4 qc_material;     // ambient, diffuse, specular, shininess\n";
     if (env) m << environment_uniforms;
-    m << "\n// Occlusion culling: the occluder depth image of the cull pass (level 0 of its pyramid: per pixel\n"
-         "// the bits of a view distance no nearer than what the pixel shows, or all ones).\n"
-         "layout(std430, binding = 3) readonly buffer qc_Depths { uint qc_depth[]; };\n"
-         "uniform bool qc_early;        // the cull pass ran for this pass: test against its depth image\n"
-         "uniform int qc_depth_width;   // its width (the viewport's)\n"
-         "flat in float qc_nearest;     // the primitive's nearest view distance (quadcast::nearest_distance)\n";
+    if (k.early)
+        m << "\n// Occlusion culling: the occluder depth image of the cull pass (level 0 of its pyramid: per pixel\n"
+             "// the bits of a view distance no nearer than what the pixel shows, or all ones).\n"
+             "layout(std430, binding = 3) readonly buffer qc_Depths { uint qc_depth[]; };\n"
+             "uniform int qc_depth_width;   // its width (the viewport's)\n";
+    m << "flat in float qc_nearest;     // the primitive's nearest view distance (quadcast::nearest_distance)\n";
     if (k.count)
         m << "// Fragment counts (a measurement): started, passed the early discard (cast their ray), hit\n"
              "layout(std430, binding = 14) buffer qc_FragmentCounts { uint qc_fragment_count[3]; };\n";
@@ -312,8 +313,9 @@ Stage fragment_shader(const render::QuadricKey& k) {
     m << fns.str();
     m << "void main()\n{\n";
     if (k.count) m << "    atomicAdd(qc_fragment_count[0], 1u);\n";
-    m << "    // Behind the occluders at this pixel: nothing of this primitive can show here (quadcast/occlusion.hpp)\n"
-         "    if (qc_early && qc_nearest > 0.0 && floatBitsToUint(qc_nearest) > qc_depth[int(gl_FragCoord.y) * qc_depth_width + int(gl_FragCoord.x)]) discard;\n";
+    if (k.early)
+        m << "    // Behind the occluders at this pixel: nothing of this primitive can show here (quadcast/occlusion.hpp)\n"
+             "    if (qc_nearest > 0.0 && floatBitsToUint(qc_nearest) > qc_depth[int(gl_FragCoord.y) * qc_depth_width + int(gl_FragCoord.x)]) discard;\n";
     if (k.count) m << "    atomicAdd(qc_fragment_count[1], 1u);\n";
     m
       << (sphere ? "" : detail::record_varyings_in())
