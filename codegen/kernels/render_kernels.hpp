@@ -780,6 +780,83 @@ struct PixelSpanKernel {
     static void generate(std::mt19937& rng, std::span<float> in) { pixel_span_inputs(rng, in); }
 };
 
+/// Occlusion culling: the texels of the level below that a pyramid texel takes the largest of
+/// (`pyramid_children`).
+struct PyramidChildrenKernel {
+    static constexpr const char* name = "pyramid_children";
+    static constexpr const char* source = "quadcast::pyramid_children (quadcast/occlusion.hpp)";
+    static constexpr const char* summary = "the (up to) 2 x 2 texels below a texel of the max-depth pyramid, clamped";
+    template <class IO> static void run(IO& io) {
+        using T = typename IO::T;
+        const Vec2<T> t = io.template vec<2>("t"), below = io.template vec<2>("below");
+        io.out("children", pyramid_children(t, below));
+    }
+    static void generate(std::mt19937& rng, std::span<float> in) {
+        std::size_t p = 0;
+        // Levels up to 8192 wide, odd and even; texels anywhere in them, a third on the last.
+        const Vec2<float> below = vec2(std::floor(uniform(rng, 1.0f, 8192.999f)), std::floor(uniform(rng, 1.0f, 8192.999f)));
+        Vec2<float> t{};
+        for (int k = 0; k < 2; ++k) {
+            const float size = std::ceil(below[k] * 0.5f);
+            t[k] = uniform(rng, 0.0f, 1.0f) < 0.33f ? size - 1.0f : std::floor(uniform(rng, 0.0f, size - 0.001f));
+        }
+        put(in, p, t);
+        put(in, p, below);
+    }
+};
+
+/// Outline tiles: whether a texel of the normal target holds the cleared value (`is_cleared_gnormal`).
+struct ClearedGnormalKernel {
+    static constexpr const char* name = "is_cleared_gnormal";
+    static constexpr const char* source = "quadcast::is_cleared_gnormal (quadcast/shading.hpp)";
+    static constexpr const char* summary = "whether a geometry-buffer normal texel is the cleared (0, 0, 0, 1)";
+    template <class IO> static void run(IO& io) {
+        using T = typename IO::T;
+        io.out("cleared", is_cleared_gnormal(io.template vec<4>("g")));
+    }
+    static void generate(std::mt19937& rng, std::span<float> in) {
+        std::size_t p = 0;
+        // Each component 0, -0, 1, or a normal's or depth's value, so that all 16 patterns occur.
+        Vec4<float> g{};
+        for (int k = 0; k < 4; ++k) {
+            const float r = uniform(rng, 0.0f, 1.0f);
+            g[k] = r < 0.3f ? (k == 3 ? 1.0f : 0.0f) : r < 0.4f ? -0.0f : r < 0.5f ? 1.0f : uniform(rng, -1.0f, 1.0f);
+        }
+        put(in, p, g);
+    }
+};
+
+/// Outline tiles: the pixels whose texels a tile's outlines read (`outline_tile_reach`).
+struct OutlineTileReachKernel {
+    static constexpr const char* name = "outline_tile_reach";
+    static constexpr const char* source = "quadcast::outline_tile_reach (quadcast/shading.hpp)";
+    static constexpr const char* summary = "an 8 x 8 outline tile grown by one pixel, clamped to the viewport";
+    template <class IO> static void run(IO& io) {
+        using T = typename IO::T;
+        const Vec2<T> tile = io.template vec<2>("tile"), viewport = io.template vec<2>("viewport");
+        io.out("reach", outline_tile_reach(tile, viewport));
+    }
+    static void generate(std::mt19937& rng, std::span<float> in) {
+        std::size_t p = 0;
+        const Vec2<float> viewport = vec2(std::floor(uniform(rng, 1.0f, 4096.999f)), std::floor(uniform(rng, 1.0f, 4096.999f)));
+        put(in, p, vec2(std::floor(uniform(rng, 0.0f, std::ceil(viewport[0] / 8.0f) - 0.001f)), std::floor(uniform(rng, 0.0f, std::ceil(viewport[1] / 8.0f) - 0.001f))));
+        put(in, p, viewport);
+    }
+};
+
+/// Outline tiles: the centre of a tile's 8-pixel point (`outline_tile_centre`).
+struct OutlineTileCentreKernel {
+    static constexpr const char* name = "outline_tile_centre";
+    static constexpr const char* source = "quadcast::outline_tile_centre (quadcast/shading.hpp)";
+    static constexpr const char* summary = "the window position of an outline tile's 8-pixel point, kept in the view";
+    template <class IO> static void run(IO& io) {
+        using T = typename IO::T;
+        const Vec2<T> tile = io.template vec<2>("tile"), viewport = io.template vec<2>("viewport");
+        io.out("centre", outline_tile_centre(tile, viewport));
+    }
+    static void generate(std::mt19937& rng, std::span<float> in) { OutlineTileReachKernel::generate(rng, in); }
+};
+
 /// Soft shadows: a pixel's shadow-map texel position and light depth (`shadow_coord`).
 struct ShadowCoordKernel {
     static constexpr const char* name = "shadow_coord";

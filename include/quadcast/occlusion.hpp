@@ -201,4 +201,16 @@ Vec4<T> pixel_span(const Vec2<T>& lo, const Vec2<T>& hi, const Vec2<T>& viewport
     return s;
 }
 
+/// The texels of the level below that texel `t` of a max-depth pyramid level takes the largest
+/// of: columns 2 t.x and min(2 t.x + 1, w - 1), rows likewise, as (x0, y0, x1, y1), where
+/// `below` = (w, h) is the size of the level below. Each level halves the one below, rounding up,
+/// so 2 t lies in it and an odd last column or row is read twice. Texel t of level l then holds
+/// the largest depth over the pixels [2^l t, 2^l (t + 1) - 1] of level 0 (clamped to it).
+/// Numerics: exact integers (below 2^24).
+template <class T>
+Vec4<T> pyramid_children(const Vec2<T>& t, const Vec2<T>& below) {
+    const T x0 = T(2) * t[0], y0 = T(2) * t[1];
+    return vec4(x0, y0, min(x0 + T(1), below[0] - T(1)), min(y0 + T(1), below[1] - T(1)));
+}
+
 }  // namespace quadcast

@@ -163,6 +163,42 @@ Vec2<T> neighbour_texel(const Vec2<T>& frag, const T& dx, const T& dy, const Vec
     return vec2(clamp_texel(floor(frag[0]) + dx, last[0]), clamp_texel(floor(frag[1]) + dy, last[1]));
 }
 
+/// The geometry buffer's normal target (unnormalised normal, window depth) where nothing is drawn:
+/// a zero normal at the far plane. Its nine texels give `silhouette_weight` zero.
+template <class T>
+Vec4<T> cleared_gnormal() {
+    return vec4(T(0), T(0), T(0), T(1));
+}
+
+/// Whether a texel of the geometry buffer's normal target holds `cleared_gnormal` (-0 counts as 0).
+/// Numerics: four comparisons.
+template <class T>
+mask_t<T> is_cleared_gnormal(const Vec4<T>& g) {
+    return ((g[0] == T(0) && g[1] == T(0)) && g[2] == T(0)) && g[3] == T(1);
+}
+
+/// Outline tiles of the deferred background pass: the pixels (x0, y0, x1, y1), inclusive, whose
+/// texels the outline of a pixel in tile `tile` (the 8 x 8 pixels from 8 tile) reads -- its
+/// 3 x 3 neighbourhood (`neighbour_texel`) -- so the tile grown by one pixel, clamped to the
+/// viewport. Where all of them hold `cleared_gnormal`, the tile's outlines are zero.
+/// Numerics: exact integers.
+template <class T>
+Vec4<T> outline_tile_reach(const Vec2<T>& tile, const Vec2<T>& viewport) {
+    return vec4(max(T(8) * tile[0] - T(1), T(0)), max(T(8) * tile[1] - T(1), T(0)),
+                min(T(8) * tile[0] + T(8), viewport[0] - T(1)), min(T(8) * tile[1] + T(8), viewport[1] - T(1)));
+}
+
+/// The window position of the 8-pixel point drawn over outline tile `tile`: the tile's centre
+/// 8 tile + 4, moved inwards for a partial tile at the right or top edge (to size - 4, or to the
+/// middle of a viewport narrower than 8 pixels), since GL clips a point whose centre leaves the
+/// view. The point then still covers every pixel of the tile, and maybe some of the tile beside it.
+/// Numerics: exact (multiples of 1/2).
+template <class T>
+Vec2<T> outline_tile_centre(const Vec2<T>& tile, const Vec2<T>& viewport) {
+    return vec2(min(T(8) * tile[0] + T(4), max(viewport[0] - T(4), viewport[0] * T(0.5))),
+                min(T(8) * tile[1] + T(4), max(viewport[1] - T(4), viewport[1] * T(0.5))));
+}
+
 /// Where a pixel's surface point falls in the shadow map: the camera's window position
 /// (frag = pixel centre, window depth d, viewport size) is taken to the camera's NDC, mapped by
 /// M = P_light V_light (P_camera V_camera)^-1 to the light's clip space and to the light's window

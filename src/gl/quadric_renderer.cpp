@@ -384,7 +384,8 @@ public:
             // Geometry buffer: normal + depth (background: depth 1), ray direction + covered, colour.
             ensure_gbuffer();
             gl.BindFramebuffer(GL_FRAMEBUFFER, gfbo_);
-            const float gn_clear[4] = {0.0f, 0.0f, 0.0f, 1.0f}, zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+            const Vec4<float> cleared = cleared_gnormal<float>();
+            const float gn_clear[4] = {cleared[0], cleared[1], cleared[2], cleared[3]}, zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
             gl.ClearBufferfv(GL_COLOR, 0, gn_clear);
             gl.ClearBufferfv(GL_COLOR, 1, zero);
             gl.ClearBufferfv(GL_COLOR, 2, zero);

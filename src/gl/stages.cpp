@@ -591,13 +591,14 @@ Stage occluder_raster_shader() {
 /// view distance of what the depth buffer now holds there (`depth_distance`, no nearer than it)
 /// where that is nearer than its value; the background and what lies at the far plane leave it.
 /// What is drawn later can only bring a pixel nearer, so the value stays conservative. One
-/// invocation per 2 x 2 pixels, which also writes their texel of pyramid level 1 (the largest of
-/// the four, indices clamped to the image as the pyramid pass clamps them): a quarter of the
-/// invocations, and no pyramid pass for level 1.
+/// invocation per texel of pyramid level 1, which updates its (up to) 2 x 2 pixels
+/// (`pyramid_children`, as the pyramid pass reads them) and writes the largest of them there: a
+/// quarter of the invocations, and no pyramid pass for level 1.
 Stage depth_image_shader() {
     Stage s;
     std::ostringstream fns;
     add_kernel(s, fns, "depth_distance");
+    add_kernel(s, fns, "pyramid_children");
     std::ostringstream m;
     m << "layout(local_size_x = 8, local_size_y = 8) in;\n\n"
          "layout(std430, binding = 3) buffer qc_Depths { uint qc_depth[]; };\n"
@@ -609,20 +610,22 @@ Stage depth_image_shader() {
       << "void main()\n{\n"
          "    uvec2 t = gl_GlobalInvocationID.xy;  // a texel of level 1\n"
          "    if (t.x >= qc_level1.y || t.y >= qc_level1.z) return;\n"
+         "    vec4 children;\n"
+         "    qc_pyramid_children(vec2(t), vec2(qc_size), children);\n"
+         "    uvec4 c = uvec4(children);\n"
          "    uint m = 0u;\n"
-         "    for (uint dy = 0u; dy < 2u; ++dy)\n"
-         "        for (uint dx = 0u; dx < 2u; ++dx) {\n"
-         "            uvec2 p = min(2u * t + uvec2(dx, dy), qc_size - 1u);\n"
-         "            uint at = p.y * qc_size.x + p.x;\n"
-         "            uint v = qc_depth[at];\n"
-         "            float s;\n            bool far;\n"
-         "            qc_depth_distance(texelFetch(qc_depth_buffer, ivec2(p), 0).r, qc_pz, s, far);\n"
-         "            if (!far && s > 0.0 && floatBitsToUint(s) < v) {\n"
-         "                v = floatBitsToUint(s);\n"
-         "                qc_depth[at] = v;\n"
-         "            }\n"
-         "            m = max(m, v);\n"
+         "    for (uint k = 0u; k < 4u; ++k) {\n"
+         "        uvec2 p = uvec2((k & 1u) == 0u ? c.x : c.z, k < 2u ? c.y : c.w);\n"
+         "        uint at = p.y * qc_size.x + p.x;\n"
+         "        uint v = qc_depth[at];\n"
+         "        float s;\n        bool far;\n"
+         "        qc_depth_distance(texelFetch(qc_depth_buffer, ivec2(p), 0).r, qc_pz, s, far);\n"
+         "        if (!far && s > 0.0 && floatBitsToUint(s) < v) {\n"
+         "            v = floatBitsToUint(s);\n"
+         "            qc_depth[at] = v;\n"
          "        }\n"
+         "        m = max(m, v);\n"
+         "    }\n"
          "    qc_depth[qc_level1.x + t.y * qc_level1.y + t.x] = m;\n"
          "}\n";
     s.text = m.str();
@@ -630,20 +633,30 @@ Stage depth_image_shader() {
 }
 
 /// Occlusion pass 2: one level of the max-depth pyramid, each texel the largest of the (up to)
-/// 2 x 2 texels below it (no arithmetic on depths).
-const char* pyramid_shader =
-    "layout(local_size_x = 8, local_size_y = 8) in;\n\n"
-    "layout(std430, binding = 3) buffer qc_Depths { uint qc_depth[]; };\n"
-    "uniform uvec3 qc_src;  // offset, width, height of the level below\n"
-    "uniform uvec3 qc_dst;  // of the level written\n\n"
-    "void main()\n{\n"
-    "    uvec2 t = gl_GlobalInvocationID.xy;\n"
-    "    if (t.x >= qc_dst.y || t.y >= qc_dst.z) return;\n"
-    "    uint x0 = 2u * t.x, y0 = 2u * t.y, x1 = min(x0 + 1u, qc_src.y - 1u), y1 = min(y0 + 1u, qc_src.z - 1u);\n"
-    "    uint m = max(max(qc_depth[qc_src.x + y0 * qc_src.y + x0], qc_depth[qc_src.x + y0 * qc_src.y + x1]),\n"
-    "                 max(qc_depth[qc_src.x + y1 * qc_src.y + x0], qc_depth[qc_src.x + y1 * qc_src.y + x1]));\n"
-    "    qc_depth[qc_dst.x + t.y * qc_dst.y + t.x] = m;\n"
-    "}\n";
+/// 2 x 2 texels below it (`pyramid_children`; no arithmetic on depths).
+Stage pyramid_shader() {
+    Stage s;
+    std::ostringstream fns;
+    add_kernel(s, fns, "pyramid_children");
+    std::ostringstream m;
+    m << "layout(local_size_x = 8, local_size_y = 8) in;\n\n"
+         "layout(std430, binding = 3) buffer qc_Depths { uint qc_depth[]; };\n"
+         "uniform uvec3 qc_src;  // offset, width, height of the level below\n"
+         "uniform uvec3 qc_dst;  // of the level written\n\n"
+      << fns.str()
+      << "void main()\n{\n"
+         "    uvec2 t = gl_GlobalInvocationID.xy;\n"
+         "    if (t.x >= qc_dst.y || t.y >= qc_dst.z) return;\n"
+         "    vec4 children;\n"
+         "    qc_pyramid_children(vec2(t), vec2(qc_src.yz), children);\n"
+         "    uvec4 c = uvec4(children);\n"
+         "    uint m = max(max(qc_depth[qc_src.x + c.y * qc_src.y + c.x], qc_depth[qc_src.x + c.y * qc_src.y + c.z]),\n"
+         "                 max(qc_depth[qc_src.x + c.w * qc_src.y + c.x], qc_depth[qc_src.x + c.w * qc_src.y + c.z]));\n"
+         "    qc_depth[qc_dst.x + t.y * qc_dst.y + t.x] = m;\n"
+         "}\n";
+    s.text = m.str();
+    return s;
+}
 
 /// Occlusion pass 3: per record, its rectangle (`primitive_rect_*` of its variant's bound); a
 /// record whose rectangle is tight and holds no pixel centre of the viewport (`pixel_span`), or
@@ -850,40 +863,50 @@ namespace {
 /// The deferred pass's outline tiles: per 8 x 8 tile of the image, whether the background program
 /// can draw anything but the background colour there. Its outline at a pixel reads only the
 /// geometry buffer's normal target over the 3 x 3 neighbourhood (clamped to the image), and where
-/// all nine texels hold the cleared value (0, 0, 0, 1) it is zero (`silhouette_weight`: equal
-/// depths, zero normals) and the colour the background. So a tile is listed (its x | y << 16, in
-/// any order) when a texel of it grown by one pixel differs from the cleared value, and its count
-/// goes into a DrawArraysIndirectCommand (count, 1, 0, 0; zeroed by the renderer).
-const char* const outline_tiles_shader =
-    "layout(local_size_x = 8, local_size_y = 8) in;\n\n"
-    "layout(binding = 0) uniform sampler2D qc_gnormal;  // normal, window depth (cleared to (0, 0, 0, 1))\n"
-    "layout(std430, binding = 0) writeonly buffer qc_Tiles { uint qc_tile[]; };\n"
-    "layout(std430, binding = 1) buffer qc_TileCommand { uint qc_tile_command[4]; };\n"
-    "uniform uvec2 qc_size;  // the viewport\n\n"
-    "void main()\n{\n"
-    "    uvec2 t = gl_GlobalInvocationID.xy;\n"
-    "    if (t.x >= (qc_size.x + 7u) / 8u || t.y >= (qc_size.y + 7u) / 8u) return;\n"
-    "    ivec2 lo = max(ivec2(t * 8u) - 1, ivec2(0));\n"
-    "    ivec2 hi = min(ivec2(t * 8u) + 8, ivec2(qc_size) - 1);\n"
-    "    bool geometry = false;\n"
-    "    for (int y = lo.y; y <= hi.y && !geometry; ++y)\n"
-    "        for (int x = lo.x; x <= hi.x; ++x)\n"
-    "            if (texelFetch(qc_gnormal, ivec2(x, y), 0) != vec4(0.0, 0.0, 0.0, 1.0)) {\n"
-    "                geometry = true;\n"
-    "                break;\n"
-    "            }\n"
-    "    if (geometry) qc_tile[atomicAdd(qc_tile_command[0], 1u)] = t.x | (t.y << 16);\n"
-    "}\n";
+/// all nine texels hold the cleared value (`is_cleared_gnormal`) it is zero (`silhouette_weight`:
+/// equal depths, zero normals) and the colour the background. So a tile is listed (its
+/// x | y << 16, in any order) when a texel it reaches (`outline_tile_reach`) is not cleared, and
+/// its count goes into a DrawArraysIndirectCommand (count, 1, 0, 0; zeroed by the renderer).
+Stage outline_tiles_shader() {
+    Stage s;
+    std::ostringstream fns;
+    add_kernel(s, fns, "outline_tile_reach");
+    add_kernel(s, fns, "is_cleared_gnormal");
+    std::ostringstream m;
+    m << "layout(local_size_x = 8, local_size_y = 8) in;\n\n"
+         "layout(binding = 0) uniform sampler2D qc_gnormal;  // normal, window depth\n"
+         "layout(std430, binding = 0) writeonly buffer qc_Tiles { uint qc_tile[]; };\n"
+         "layout(std430, binding = 1) buffer qc_TileCommand { uint qc_tile_command[4]; };\n"
+         "uniform uvec2 qc_size;  // the viewport\n\n"
+      << fns.str()
+      << "void main()\n{\n"
+         "    uvec2 t = gl_GlobalInvocationID.xy;\n"
+         "    if (t.x >= (qc_size.x + 7u) / 8u || t.y >= (qc_size.y + 7u) / 8u) return;\n"
+         "    vec4 reach;\n"
+         "    qc_outline_tile_reach(vec2(t), vec2(qc_size), reach);\n"
+         "    ivec4 r = ivec4(reach);\n"
+         "    bool geometry = false;\n"
+         "    for (int y = r.y; y <= r.w && !geometry; ++y)\n"
+         "        for (int x = r.x; x <= r.z; ++x) {\n"
+         "            bool cleared;\n"
+         "            qc_is_cleared_gnormal(texelFetch(qc_gnormal, ivec2(x, y), 0), cleared);\n"
+         "            if (!cleared) {\n"
+         "                geometry = true;\n"
+         "                break;\n"
+         "            }\n"
+         "        }\n"
+         "    if (geometry) qc_tile[atomicAdd(qc_tile_command[0], 1u)] = t.x | (t.y << 16);\n"
+         "}\n";
+    s.text = m.str();
+    return s;
+}
 
 /// The compute stage of an occlusion pass.
 StageText occlusion_stage(const render::OcclusionKey& k) {
     switch (k.pass) {
-    case render::OcclusionPass::outline_tiles: {
-        Stage p;
-        p.text = outline_tiles_shader;
-        return stage_text(StageText::Kind::compute, "qc_outline_tiles.comp", p,
+    case render::OcclusionPass::outline_tiles:
+        return stage_text(StageText::Kind::compute, "qc_outline_tiles.comp", outline_tiles_shader(),
                           "deferred shading: the 8 x 8 tiles where the background's outlines may differ from the background colour");
-    }
     case render::OcclusionPass::occluder_raster:
         break;  // (two stages: program_stages)
     case render::OcclusionPass::element_cull_cubes:
@@ -897,11 +920,8 @@ StageText occlusion_stage(const render::OcclusionKey& k) {
     case render::OcclusionPass::depth_image:
         return stage_text(StageText::Kind::compute, "qc_depth_image.comp", depth_image_shader(),
                           "occlusion culling, later phases: the depth buffer's view distances into the depth image");
-    case render::OcclusionPass::pyramid: {
-        Stage p;
-        p.text = pyramid_shader;
-        return stage_text(StageText::Kind::compute, "qc_depth_pyramid.comp", p, "occlusion culling: one level of the max-depth pyramid");
-    }
+    case render::OcclusionPass::pyramid:
+        return stage_text(StageText::Kind::compute, "qc_depth_pyramid.comp", pyramid_shader(), "occlusion culling: one level of the max-depth pyramid");
     case render::OcclusionPass::scan: {
         Stage p;
         p.text = scan_shader;
@@ -980,22 +1000,34 @@ std::vector<StageText> program_stages(const render::QuadricKey& key) {
 }
 
 /// The deferred background pass over the outline tiles: one point per listed tile, 8 pixels square
-/// on it (a partial tile at the image's right or top edge: the point moved inwards to keep its
-/// centre in the view, where GL clips points; it then also covers pixels of the tile beside it,
-/// which the program draws the same way).
-const char* const outline_tile_vertex =
-    "layout(std430, binding = 0) readonly buffer qc_Tiles { uint qc_tile[]; };\n"
-    "uniform vec2 qc_viewport;\n\n"
-    "void main()\n{\n"
-    "    uint t = qc_tile[gl_VertexID];\n"
-    "    vec2 c = min(vec2(float(t & 0xffffu), float(t >> 16)) * 8.0 + 4.0, max(qc_viewport - 4.0, qc_viewport * 0.5));\n"
-    "    gl_Position = vec4(c / qc_viewport * 2.0 - 1.0, 0.0, 1.0);\n"
-    "    gl_PointSize = 8.0;\n"
-    "}\n";
+/// on it (`outline_tile_centre`: a partial tile at the image's right or top edge moves the point
+/// inwards to keep its centre in the view, where GL clips points; it then also covers pixels of
+/// the tile beside it, which the program draws the same way).
+Stage outline_tile_vertex() {
+    Stage s;
+    std::ostringstream fns;
+    add_kernel(s, fns, "outline_tile_centre");
+    std::ostringstream m;
+    m << "layout(std430, binding = 0) readonly buffer qc_Tiles { uint qc_tile[]; };\n"
+         "uniform vec2 qc_viewport;\n\n"
+      << fns.str()
+      << "void main()\n{\n"
+         "    uint t = qc_tile[gl_VertexID];\n"
+         "    vec2 c;\n"
+         "    qc_outline_tile_centre(vec2(float(t & 0xffffu), float(t >> 16)), qc_viewport, c);\n"
+         "    gl_Position = vec4(c / qc_viewport * 2.0 - 1.0, 0.0, 1.0);\n"
+         "    gl_PointSize = 8.0;\n"
+         "}\n";
+    s.text = m.str();
+    return s;
+}
 
 std::vector<StageText> program_stages(const render::DeferredKey& k) {
     Stage v;
-    v.text = k.tiles ? outline_tile_vertex : detail::fullscreen_vertex;
+    if (k.tiles)
+        v = outline_tile_vertex();
+    else
+        v.text = detail::fullscreen_vertex;
     if (k.background && (k.shadows || k.environment)) throw std::invalid_argument("quadcast::gl::program_stages: the deferred background pass has no shading");
     if (k.tiles && !(k.background && k.silhouettes)) throw std::invalid_argument("quadcast::gl::program_stages: only the deferred background pass with outlines is drawn over tiles");
     const std::string dname = std::string("qc_deferred") + (k.shadows ? "_shadows" : "") + (k.silhouettes ? "_silhouettes" : "") + (k.environment ? "_environment" : "") +
