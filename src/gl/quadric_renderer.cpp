@@ -132,6 +132,7 @@ public:
     }
     ~Impl() {
         if (etex_) api_->DeleteTextures(1, &etex_);
+        if (depth_view_) api_->DeleteTextures(1, &depth_view_);
         release_shadow_map();
         release_fbo();
         api_->DeleteBuffers(1, &ssbo_);
@@ -808,7 +809,7 @@ public:
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, planes_);
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, ph.listed ? ph.listed->list : visible_);
         if (indirect) {
-            gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, depths_);
+            gl.BindTextureUnit(depth_texels_unit, depth_view_);  // (the early discard's reads)
             if (compute_bounds_) {
                 gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, corners_);
                 gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 9, nearests_);
@@ -858,9 +859,9 @@ public:
         }
         if (indirect) gl.BindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, 0);
-        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, 0);
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, 0);
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 9, 0);
+        gl.BindTextureUnit(depth_texels_unit, 0);
         gl.BindTextureUnit(4, 0);
         gl.Disable(GL_DEPTH_CLAMP);
     }
@@ -902,6 +903,7 @@ private:
         const std::size_t texels = pyramid_texels(levels);
         if (texels > depth_texels_) {  // grown only (the shadow map's pass and the camera's share it)
             upload(depths_, std::vector<std::uint32_t>(texels));
+            view_depth_texels(gl, depth_view_, depths_);
             depth_texels_ = texels;
         }
         if (ph.fresh) {
@@ -916,6 +918,7 @@ private:
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, visible_);
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, commands_);
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, keep_);
+        gl.BindTextureUnit(depth_texels_unit, depth_view_);  // (the cull pass's pyramid reads)
         const render::OcclusionRange range = render::occlusion_range(cam);
         auto common = [&](const Program& p) {
             gl.UseProgram(p.id());
@@ -1090,8 +1093,9 @@ private:
                 dispatch_rows(gl, groups(ranges_[v].second, 64));
             }
         }
-        gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+        gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
         for (int b = 2; b <= 12; ++b) gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, static_cast<GLuint>(b), 0);
+        gl.BindTextureUnit(depth_texels_unit, 0);
     }
 
     /// The uniforms of a variant's bounding geometry and per-quadric culling, the same for its
@@ -1332,6 +1336,7 @@ private:
     GLuint sfbo_ = 0, stex_ = 0;             ///< shadow map
     GLuint etex_ = 0;                        ///< environment map
     GLuint occluders_ = 0, depths_ = 0, visible_ = 0, commands_ = 0, keep_ = 0, groups_ = 0;  ///< occlusion culling
+    GLuint depth_view_ = 0;  ///< texture-buffer view of depths_ (depth_texels_unit): the cull pass's and the early discard's reads
     GLuint keep2_ = 0, groups2_ = 0, commands2_ = 0;  ///< the shown set's flags, workgroup counts and per-variant counts for its list
     GLuint corners_ = 0, nearests_ = 0;  ///< per slot of the visible list: 4 clip positions, the nearest distance
     std::size_t bounds_capacity_ = 0;    ///< slots corners_ and nearests_ hold

@@ -342,8 +342,8 @@ Stage occlusion_bound_shader(bool ortho, bool tri) {
     std::ostringstream m;
     m << "layout(local_size_x = 64) in;\n\n"
       << vertex_uniforms
-      << "layout(std430, binding = 3) readonly buffer qc_Depths { uint qc_depth[]; };  // the max-depth pyramid\n"
-         "layout(std430, binding = 10) writeonly buffer qc_Floors { float qc_floors[]; };\n"
+      << detail::depth_texels_glsl()
+      << "layout(std430, binding = 10) writeonly buffer qc_Floors { float qc_floors[]; };\n"
          "uniform uint qc_count;        // the phase's elements, from qc_first on\n"
          "uniform uint qc_draw_from;    // of these, the first that may be kept (the ones before it are drawn already)\n"
          "uniform vec4 qc_pz;           // P22, P32, P23, P33 of the projection\n"

@@ -294,8 +294,8 @@ Stage fragment_shader(const render::QuadricKey& k) {
     if (k.early)
         m << "\n// Occlusion culling: the occluder depth image of the cull pass (level 0 of its pyramid: per pixel\n"
              "// the bits of a view distance no nearer than what the pixel shows, or all ones).\n"
-             "layout(std430, binding = 3) readonly buffer qc_Depths { uint qc_depth[]; };\n"
-             "uniform int qc_depth_width;   // its width (the viewport's)\n";
+             << detail::depth_texels_glsl()
+             << "uniform int qc_depth_width;   // its width (the viewport's)\n";
     m << "flat in float qc_nearest;     // the primitive's nearest view distance (quadcast::nearest_distance)\n";
     if (k.count)
         m << "// Fragment counts (a measurement): started, passed the early discard (cast their ray), hit\n"
@@ -315,7 +315,7 @@ Stage fragment_shader(const render::QuadricKey& k) {
     if (k.count) m << "    atomicAdd(qc_fragment_count[0], 1u);\n";
     if (k.early)
         m << "    // Behind the occluders at this pixel: nothing of this primitive can show here (quadcast/occlusion.hpp)\n"
-             "    if (qc_nearest > 0.0 && floatBitsToUint(qc_nearest) > qc_depth[int(gl_FragCoord.y) * qc_depth_width + int(gl_FragCoord.x)]) discard;\n";
+             "    if (qc_nearest > 0.0 && floatBitsToUint(qc_nearest) > qc_depth_texel(uint(int(gl_FragCoord.y) * qc_depth_width + int(gl_FragCoord.x)))) discard;\n";
     if (k.count) m << "    atomicAdd(qc_fragment_count[1], 1u);\n";
     m
       << (sphere ? "" : detail::record_varyings_in())
@@ -700,12 +700,16 @@ Stage cull_shader(bool sphere_bound) {
          "layout(std430, binding = 11) writeonly buffer qc_Keep2 { uint qc_keep2[]; };\n"
          "layout(std430, binding = 12) writeonly buffer qc_Groups2 { uint qc_groups2[]; };\n"
          "uniform bool qc_list;\n\n"
-      << fns.str() << detail::pyramid_farthest_glsl(8, true)
+      << fns.str() << detail::depth_texels_glsl() << detail::pyramid_farthest_glsl(8, true)
       << "// Counts a culled record (0: outside the view, 1: behind the occluders); with reuse only in the\n"
-         "// second phase, and only the records the first did not draw (`shown`).\n"
+         "// second phase, and only the records the first did not draw (`shown`). The invocation notes it\n"
+         "// (qc_culled_as: 1 + what) and its workgroup's first adds the workgroup's counts: one atomic add\n"
+         "// per workgroup, not per record, which llvmpipe's threads would contend for.\n"
+         "uint qc_culled_as = 0u;\n"
+         "shared uint qc_culled[64];\n"
          "void qc_count_culled(uint what, bool shown)\n{\n"
          "    if (qc_reuse == 1 || (qc_reuse == 2 && shown)) return;\n"
-         "    atomicAdd(qc_command[qc_stats_at + what], 1u);\n"
+         "    qc_culled_as = what + 1u;\n"
          "}\n\n"
          "bool qc_kept(uint prim, bool shown)\n{\n"
          "    // The centre and bounding radius from the occluder list (the record's own floats, 2 vec4 per\n"
@@ -750,7 +754,18 @@ Stage cull_shader(bool sphere_bound) {
          "    if (inside && qc_reuse >= 2) qc_shown[prim] = kept ? 1u : 0u;\n"
          "    bool listed = kept && qc_reuse >= 2;\n"
          "    if (qc_reuse == 2) kept = kept && !shown;  // (the first phase drew it)\n"
-      << detail::keep_flags_glsl("prim", true) << "}\n";
+         "    qc_culled[t] = qc_culled_as;\n"
+      << detail::keep_flags_glsl("prim", true)
+      << "    if (t == 0u) {  // (the barriers of the keep flags are behind every qc_culled write)\n"
+         "        uint outside = 0u, behind = 0u;\n"
+         "        for (uint r = 0u; r < 64u; ++r) {\n"
+         "            outside += qc_culled[r] == 1u ? 1u : 0u;\n"
+         "            behind += qc_culled[r] == 2u ? 1u : 0u;\n"
+         "        }\n"
+         "        if (outside != 0u) atomicAdd(qc_command[qc_stats_at], outside);\n"
+         "        if (behind != 0u) atomicAdd(qc_command[qc_stats_at + 1u], behind);\n"
+         "    }\n"
+         "}\n";
     s.text = m.str();
     return s;
 }

@@ -31,9 +31,24 @@ inline std::size_t pyramid_texels(const std::vector<std::array<std::uint32_t, 3>
     return std::size_t(l[0]) + std::size_t(l[1]) * l[2];
 }
 
+/// The texture unit at which the cull passes and the early discard read the max-depth pyramid,
+/// through a texture-buffer view of its storage buffer (`view_depth_texels`): llvmpipe loads a
+/// storage-buffer word lane by lane, and fetches texels for all lanes at once.
+inline constexpr GLuint depth_texels_unit = 8;
+
+/// Points the texture-buffer view `view` (made when 0) at all of `buffer` as GL_R32UI texels; again
+/// after each new data store of `buffer`.
+inline void view_depth_texels(const Api& gl, GLuint& view, GLuint buffer) {
+    if (view == 0) gl.GenTextures(1, &view);
+    gl.BindTexture(GL_TEXTURE_BUFFER, view);
+    gl.TexBuffer(GL_TEXTURE_BUFFER, GL_R32UI, buffer);
+    gl.BindTexture(GL_TEXTURE_BUFFER, 0);
+}
+
 /// Levels `written` + 1 .. of a pyramid whose levels up to `written` are written, in the buffer
 /// bound at binding 3, each the max of the texels below it (`pyr`: the program of
-/// OcclusionPass::pyramid), with the barriers between them and after the last.
+/// OcclusionPass::pyramid), with the barriers between them and after the last (for storage-buffer
+/// reads and for texel fetches through `view_depth_texels`).
 inline void build_pyramid(const Api& gl, const Program& pyr, const std::vector<std::array<std::uint32_t, 3>>& levels, std::size_t written = 0) {
     gl.UseProgram(pyr.id());
     for (std::size_t l = written + 1; l < levels.size(); ++l) {
@@ -42,7 +57,7 @@ inline void build_pyramid(const Api& gl, const Program& pyr, const std::vector<s
         gl.Uniform3ui(pyr.uniform_location("qc_dst"), levels[l][0], levels[l][1], levels[l][2]);
         gl.DispatchCompute((levels[l][1] + 7) / 8, (levels[l][2] + 7) / 8, 1);
     }
-    gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
 }
 
 /// Sets the cull passes' uniforms qc_levels[16] and qc_level_count of `p` (bound) from `levels`

@@ -67,6 +67,7 @@ public:
             if (c.tex) api_->DeleteTextures(1, &c.tex);
         }
         if (pyramid_) api_->DeleteBuffers(1, &pyramid_);
+        if (pyramid_view_) api_->DeleteTextures(1, &pyramid_view_);
     }
     IsosurfaceRenderer(const IsosurfaceRenderer&) = delete;
     IsosurfaceRenderer& operator=(const IsosurfaceRenderer&) = delete;
@@ -441,6 +442,7 @@ private:
             gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, pyramid_);
             gl.BufferData(GL_SHADER_STORAGE_BUFFER, static_cast<GLsizeiptr>(texels * sizeof(GLuint)), nullptr, GL_DYNAMIC_COPY);
             gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
+            view_depth_texels(gl, pyramid_view_, pyramid_);
             pyramid_texels_ = texels;
         }
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, pyramid_);
@@ -458,12 +460,14 @@ private:
         gl.Uniform1ui(cp.uniform_location("qc_draw_from"), static_cast<GLuint>(draw_from));
         gl.Uniform2f(cp.uniform_location("qc_viewport"), float(vp[2]), float(vp[3]));
         set_pyramid_uniforms(gl, cp, levels);
+        gl.BindTextureUnit(depth_texels_unit, pyramid_view_);  // (the pyramid's reads)
         const auto groups = static_cast<std::uint32_t>((count + 63) / 64);
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, v.phase_keep);
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, v.phase_groups);
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 13, v.passed);
         dispatch_rows(gl, groups);
         gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        gl.BindTextureUnit(depth_texels_unit, 0);
         // The kept elements in order into the survivors' list (the quadric renderer's scan)
         const Program& scan = programs_.get(render::OcclusionKey{render::OcclusionPass::scan});
         gl.UseProgram(scan.id());
@@ -846,6 +850,7 @@ private:
     DepthCopy copies_[2];
     int next_copy_ = 0;
     GLuint pyramid_ = 0;  ///< the max-depth pyramid of occlusion culling (window depth bits, levels packed)
+    GLuint pyramid_view_ = 0;  ///< its texture-buffer view (depth_texels_unit), which the cull pass reads
     std::size_t pyramid_texels_ = 0;
 };
 
