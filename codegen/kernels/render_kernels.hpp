@@ -811,7 +811,6 @@ struct ClearedGnormalKernel {
     static constexpr const char* source = "quadcast::is_cleared_gnormal (quadcast/shading.hpp)";
     static constexpr const char* summary = "whether a geometry-buffer normal texel is the cleared (0, 0, 0, 1)";
     template <class IO> static void run(IO& io) {
-        using T = typename IO::T;
         io.out("cleared", is_cleared_gnormal(io.template vec<4>("g")));
     }
     static void generate(std::mt19937& rng, std::span<float> in) {

@@ -201,6 +201,10 @@ public:
         ++revision_;
     }
     void set_outline_tiles(bool on) { outline_tiles_ = on; }
+    void set_skip_unchanged_view_test(bool on) {
+        keep_unchanged_sets_ = on;
+        ++revision_;
+    }
     /// Whether the last `draw_primitives` drew the sphere variant as point sprites.
     bool drew_points() const { return points_; }
     void set_dispatch_row_limit(std::uint32_t groups) {
@@ -439,12 +443,8 @@ public:
         count_culled();
     }
 
-    /// What the shadow map depends on (RenderOptions::shadow_map_reuse): the light camera (the
-    /// light's direction and the bounds of the primitives and passes), the map's size, the
-    /// options that change its depths, the renderer's revision (its primitives, setters and
-    /// passes) and every pass's revision.
-    std::vector<std::uint64_t> shadow_key(const render::RenderOptions& opt) const {
-        std::vector<std::uint64_t> key;
+    /// Appends a camera to a key: the bits of its matrices and eye, and its projection's kind.
+    static void push_camera_key(std::vector<std::uint64_t>& key, const render::Camera& cam) {
         auto bits = [&](float f) {
             std::uint32_t u = 0;
             std::memcpy(&u, &f, sizeof u);
@@ -452,11 +452,20 @@ public:
         };
         for (int c = 0; c < 4; ++c)
             for (int r = 0; r < 4; ++r) {
-                bits(light_cam_.view[c][r]);
-                bits(light_cam_.projection[c][r]);
+                bits(cam.view[c][r]);
+                bits(cam.projection[c][r]);
             }
-        for (int i = 0; i < 3; ++i) bits(light_cam_.eye[i]);
-        key.push_back(light_cam_.orthographic);
+        for (int i = 0; i < 3; ++i) bits(cam.eye[i]);
+        key.push_back(cam.orthographic);
+    }
+
+    /// What the shadow map depends on (RenderOptions::shadow_map_reuse): the light camera (the
+    /// light's direction and the bounds of the primitives and passes), the map's size, the
+    /// options that change its depths, the renderer's revision (its primitives, setters and
+    /// passes) and every pass's revision.
+    std::vector<std::uint64_t> shadow_key(const render::RenderOptions& opt) const {
+        std::vector<std::uint64_t> key;
+        push_camera_key(key, light_cam_);
         key.push_back(static_cast<std::uint64_t>(shadow_size_));
         key.push_back(opt.culling);
         key.push_back(opt.tight_bounds);
@@ -474,7 +483,11 @@ public:
 
     /// `drawn_`, `frustum_culled_` and `occluded_` of the frame just drawn.
     void count_culled() {
-        if (cull_pass_ran_) {
+        if (cull_pass_ran_ && view_unchanged_) {  // (the set alone: the others, left out by its test, count as hidden)
+            drawn_ = unchanged_drawn_;
+            frustum_culled_ = 0;
+            occluded_ = count_ - std::min(count_, unchanged_drawn_);
+        } else if (cull_pass_ran_) {
             const auto cmds = read_commands();
             drawn_ = earlier_phases_drawn_ + cmds[5 * render::variant_count];  // (phased drawing: and the phases before the last)
             frustum_culled_ = cmds[5 * render::variant_count + 1];
@@ -505,6 +518,7 @@ public:
     bool cull_pass_ran() const { return cull_pass_ran_; }
     int phases() const { return phase_count_; }
     bool reused_shown_set() const { return reused_; }
+    bool unchanged_view() const { return reused_ && view_unchanged_; }
     double expected_overlap() const { return expected_overlap_; }
     std::size_t frustum_culled() const { return frustum_culled_; }
     double cull_pass_ms() const { return cull_ms_; }
@@ -582,6 +596,8 @@ public:
         GLuint list = 0;   ///< the shown records in record order, each variant's from its first record (the visible list's layout)
         std::array<std::uint32_t, render::variant_count> counts{};  ///< per variant the shown records in `list`
         bool listed = false;  ///< `list` and `counts` hold the set (compacted by the frame that tested it)
+        std::vector<std::uint64_t> view;  ///< with `listed`: `view_key` of the frame that tested it
+        bool against_drawn = false;  ///< that test ran against what the set before it drew (not only occluder disks)
     };
     /// The phase of a cull pass: its index of `count`, and the window [lo, hi) of nearest view
     /// distances of the planes primitives it keeps (the first phase from -infinity, the last to
@@ -623,6 +639,20 @@ public:
         if ((phases_planes_ && phases_allowed(opt, depth_target)) || !(opt.occlusion_min_overlap > 0.0f)) return true;
         overlap = render::expected_overlap(overlap_sample_, cam, width, height);
         return overlap >= double(opt.occlusion_min_overlap);
+    }
+
+    /// What decides which primitives a view shows, besides the primitives themselves (`revision_`):
+    /// the camera's matrices, the viewport, per-quadric back-face culling, the depth test and the
+    /// fragment stage.
+    std::vector<std::uint64_t> view_key(const render::Camera& cam, const GLint (&viewport)[4], const render::RenderOptions& opt) const {
+        std::vector<std::uint64_t> key;
+        push_camera_key(key, cam);
+        for (GLint v : viewport) key.push_back(static_cast<std::uint32_t>(v));
+        key.push_back(opt.culling);
+        key.push_back(depth_test_);
+        key.push_back(static_cast<std::uint64_t>(stage_));
+        key.push_back(revision_);
+        return key;
     }
 
     /// Draws every variant's primitives with the forward or geometry-buffer programs into the
@@ -668,7 +698,14 @@ public:
         const std::vector<float> cuts = phased ? phase_cuts(cam, phases, viewport[2], viewport[3]) : std::vector<float>{};
         earlier_phases_drawn_ = 0;
         bool culled_before = false, listed_now = false;  // (a cull pass ran in an earlier phase; a list was compacted)
-        const int phase_count = phased ? phases : reused_ ? 2 : 1;
+        // A reusing frame whose view is the one its set was tested under (`view_key`), against what
+        // the set before it drew, draws the set alone: that test passed every primitive that can
+        // show in this view (it is conservative, and what it tested against lay no nearer than
+        // this view's picture), so the picture is complete, and a new test would keep a subset of
+        // the set. The set stays.
+        const std::vector<std::uint64_t> view = shown ? view_key(cam, viewport, opt) : std::vector<std::uint64_t>{};
+        view_unchanged_ = reused_ && shown->listed && shown->against_drawn && !compute_bounds_ && keep_unchanged_sets_ && shown->view == view;
+        const int phase_count = phased ? phases : reused_ ? (view_unchanged_ ? 1 : 2) : 1;
         phase_count_ = phase_count;
         for (int k = 0; k < phase_count; ++k) {
             Phase ph;
@@ -693,10 +730,15 @@ public:
             }
             listed_now = listed_now || ph.list != 0;
         }
-        if (shown) {
+        if (shown && view_unchanged_) {
+            unchanged_drawn_ = 0;
+            for (std::uint32_t n : shown->counts) unchanged_drawn_ += n;
+        } else if (shown) {
             // The list the test's results were compacted into: its counts, for the next frame
             shown->listed = listed_now;
             if (listed_now) {
+                shown->view = view;
+                shown->against_drawn = reused_;  // (a frame recording its first set tested against occluder disks: tested once more, it keeps fewer)
                 std::uint32_t counts[5 * render::variant_count] = {};
                 gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, commands2_);
                 gl.GetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, sizeof counts, counts);
@@ -1353,6 +1395,9 @@ private:
     ShownSet shown_[2];
     int next_shown_ = 0;
     bool reused_ = false;  ///< the last `draw_primitives` drew the last frame's shown set first
+    bool view_unchanged_ = false;  ///< ... and only it: the view it was tested under (`draw_primitives`)
+    bool keep_unchanged_sets_ = true;  ///< off: `set_skip_unchanged_view_test(false)`
+    std::size_t unchanged_drawn_ = 0;  ///< the set it drew then
     /// Reuse runs in frames whose expected overlap reaches this share of
     /// RenderOptions::occlusion_min_overlap (or whose cull pass runs anyway): at 1024x768 10k
     /// random spheres (overlap 2.63) drew 1.08-1.13x faster with it, the 1TII balls-and-sticks
@@ -1413,6 +1458,7 @@ void QuadricRenderer::set_slab_quads(bool on) { impl_->set_slab_quads(on); }
 void QuadricRenderer::set_early_discard(bool on) { impl_->set_early_discard(on); }
 void QuadricRenderer::set_compute_bounds(bool on) { impl_->set_compute_bounds(on); }
 void QuadricRenderer::set_outline_tiles(bool on) { impl_->set_outline_tiles(on); }
+void QuadricRenderer::set_skip_unchanged_view_test(bool on) { impl_->set_skip_unchanged_view_test(on); }
 void QuadricRenderer::set_raster_occluders(bool on) { impl_->set_raster_occluders(on); }
 void QuadricRenderer::set_point_sprites(bool on) { impl_->set_point_sprites(on); }
 bool QuadricRenderer::drew_points() const { return impl_->drew_points(); }
@@ -1436,6 +1482,7 @@ std::size_t QuadricRenderer::drawn_primitives() const { return impl_->drawn_prim
 bool QuadricRenderer::cull_pass_ran() const { return impl_->cull_pass_ran(); }
 int QuadricRenderer::phases() const { return impl_->phases(); }
 bool QuadricRenderer::reused_shown_set() const { return impl_->reused_shown_set(); }
+bool QuadricRenderer::unchanged_view() const { return impl_->unchanged_view(); }
 bool QuadricRenderer::reused_shadow_map() const { return impl_->reused_shadow_map(); }
 double QuadricRenderer::expected_overlap() const { return impl_->expected_overlap(); }
 std::size_t QuadricRenderer::frustum_culled() const { return impl_->frustum_culled(); }

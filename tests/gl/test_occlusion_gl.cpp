@@ -883,13 +883,19 @@ TEST_CASE("reusing the last frame's shown set changes no pixel, as the camera mo
             RenderOptions off = o;
             off.occlusion_culling = false;
             std::size_t first_drawn = 0, last_drawn = 0;
-            int reused = 0;
+            int reused = 0, unchanged = 0;
             for (int f = 0; f < 6; ++f) {
                 r.draw(*cams[f], light, o);
                 const Image got = r.read();
                 plain.draw(*cams[f], light, off);
                 const ImageDiff d = image_diff(got, plain.read());
                 reused += r.reused_shown_set();
+                unchanged += r.unchanged_view();
+                // The set alone where the view is the one its set was tested under against what
+                // the set before it drew: the third frame of each camera (the first records a set
+                // against occluder disks, the second tests it against what it drew).
+                if (f == 2 || f == 4) CHECK(r.unchanged_view());
+                if (f == 3 || f == 5) CHECK_FALSE(r.unchanged_view());
                 if (f == 0) first_drawn = r.drawn_primitives();
                 if (f == 2) last_drawn = r.drawn_primitives();
                 CAPTURE(s.name);
@@ -901,8 +907,8 @@ TEST_CASE("reusing the last frame's shown set changes no pixel, as the camera mo
                 CHECK(d.depth_diff == 0);
                 CHECK(r.drawn_primitives() <= s.prims.size());
             }
-            std::printf("[occlusion reuse] %s, mode %d: %d of 5 later frames reused the shown set; %zu primitives drawn in the first frame, %zu in the third, of %zu\n",
-                        s.name.c_str(), mode, reused, first_drawn, last_drawn, s.prims.size());
+            std::printf("[occlusion reuse] %s, mode %d: %d of 5 later frames reused the shown set, %d of them drew it alone (view unchanged); %zu primitives drawn in the first frame, %zu in the third, of %zu\n",
+                        s.name.c_str(), mode, reused, unchanged, first_drawn, last_drawn, s.prims.size());
             CAPTURE(s.name);
             CHECK(reused >= 5);  // (none of these cases is drawn in phases; after the first mode the first frame reuses the last mode's set too)
             if (s.name.rfind("dense block", 0) == 0 && s.name != "dense block, eye inside") CHECK(last_drawn < first_drawn);
@@ -926,5 +932,27 @@ TEST_CASE("reusing the last frame's shown set changes no pixel, as the camera mo
         r.draw(c.camera, light, o);
         r.draw(c.camera, light, o);
         CHECK_FALSE(r.reused_shown_set());
+    }
+    // With set_skip_unchanged_view_test(false) every reusing frame tests again, drawing the set
+    // and then what passes: the same picture and the same primitives as the set alone.
+    for (const Case& c : cases) {
+        if (c.name != "dense block, perspective") continue;
+        o.occlusion_reuse = true;
+        gl::QuadricRenderer retest(ctx.api());
+        retest.set_skip_unchanged_view_test(false);
+        retest.set_primitives(c.prims);
+        r.set_primitives(c.prims);
+        for (int f = 0; f < 4; ++f) {
+            r.draw(c.camera, light, o);
+            retest.draw(c.camera, light, o);
+            CAPTURE(f);
+            CHECK_FALSE(retest.unchanged_view());
+            CHECK(r.unchanged_view() == (f >= 2));
+            CHECK(r.drawn_primitives() == retest.drawn_primitives());
+            const ImageDiff d = image_diff(r.read(), retest.read());
+            CHECK(d.coverage_diff == 0);
+            CHECK(d.color_diff == 0);
+            CHECK(d.depth_diff == 0);
+        }
     }
 }

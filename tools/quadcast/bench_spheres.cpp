@@ -111,10 +111,12 @@ void run_bounds_bench(const BoundsBenchOptions& o) {
                 "sticks in phases, nearest first, each later one culled against what the earlier drew, and writes no chains), '1ph drawn' its kept primitives;\n"
                 "'reuse': the default options with the last frame's shown set drawn first (RenderOptions::occlusion_reuse; the other columns' frames\n"
                 "interleave options in one renderer and reuse nothing), its own renderer's third and later frames; 'reuse drawn' the primitives\n"
-                "its two phases drew ('*': the frame did not reuse the set: drawn in phases, or too little overlap), 'reuse fs' its\n"
+                "it drew ('*': the frame did not reuse the set: drawn in phases, or too little overlap), 'reuse fs' its\n"
                 "fragment-shader invocations per covered pixel, and counted fragment by fragment by the stages (QuadricRenderer::fragment_counts)\n"
                 "'started' (rasterised for the drawn primitives), 'shaded' (passed the early discard: cast their ray) and 'hit',\n"
-                "'auto/reuse' > 1: the reuse pays;\n"
+                "'auto/reuse' > 1: the reuse pays; the camera stays, so from the third frame on the set is drawn alone, its view unchanged since the\n"
+                "test that chose it (QuadricRenderer::set_skip_unchanged_view_test); 'tested ms': the same frames testing every primitive\n"
+                "again and drawing what passes (as after the camera moved), in a renderer of its own, 'tested/reuse' > 1: not testing pays;\n"
                 "spheres: every column draws the sphere variant as point sprites, one vertex per sphere, where they fit (QuadricRenderer::set_point_sprites,\n"
                 "render::sphere_points_fit); 'quads ms': the 'reuse' frames with quads of four vertices instead, in a renderer of its own, 'pts' whether\n"
                 "the 'reuse' frame drew sprites, 'quads/reuse' > 1: the sprites pay\n",
@@ -124,12 +126,14 @@ void run_bounds_bench(const BoundsBenchOptions& o) {
     std::printf(" %9s %11s %9s %9s %11s %8s %8s %8s %7s %9s", "late ms", "late/cull", "comp ms", "c of cp", "cull/comp", "rast ms", "r of cp", "r drawn", "r fs", "cull/rast");
     if (o.sticks) std::printf(" %8s %10s %7s", "rect ms", "rect/tight", "r rast");
     std::printf(" %8s %8s %8s %6s %10s %8s %9s %9s", "overlap", "t layers", "auto ms", "auto", "best/auto", "1ph ms", "1ph drawn", "1ph/cull");
-    std::printf(" %8s %10s %8s %8s %7s %7s %11s", "reuse ms", "reuse drawn", "reuse fs", "started", "shaded", "hit", "auto/reuse");
+    std::printf(" %8s %10s %8s %8s %7s %7s %11s %9s %12s", "reuse ms", "reuse drawn", "reuse fs", "started", "shaded", "hit", "auto/reuse", "tested ms", "tested/reuse");
     if (!o.sticks) std::printf(" %8s %4s %11s", "quads ms", "pts", "quads/reuse");
     if (o.compare) std::printf(" %16s %14s %14s %15s", "closed cull ms", "sphere/closed", "closed comp ms", "cl. cull/comp");
     std::printf("\n");
     gl::QuadricRenderer r(ctx.api());
     gl::QuadricRenderer reuse_r(ctx.api());  // the default options' frames, each reusing the last one's shown set
+    gl::QuadricRenderer tested_r(ctx.api());  // the same, testing every primitive again in every frame
+    tested_r.set_skip_unchanged_view_test(false);
     gl::QuadricRenderer quads_r(ctx.api());  // the same with the sphere variant as quads, not point sprites
     quads_r.set_point_sprites(false);
     std::unique_ptr<gl::QuadricRenderer> general;  // --compare: the closed-quadric variant
@@ -167,6 +171,7 @@ void run_bounds_bench(const BoundsBenchOptions& o) {
     for (int n : o.counts) {
         r.set_primitives(o.sticks ? random_sticks(n, 7) : random_spheres(n, 7, render::Variant::sphere));
         reuse_r.set_primitives(o.sticks ? random_sticks(n, 7) : random_spheres(n, 7, render::Variant::sphere));
+        tested_r.set_primitives(o.sticks ? random_sticks(n, 7) : random_spheres(n, 7, render::Variant::sphere));
         if (!o.sticks) quads_r.set_primitives(random_spheres(n, 7, render::Variant::sphere));
         if (general) general->set_primitives(random_spheres(n, 7, render::Variant::ellipsoid));
         // Count the fragments of one frame each (the queries are not in the timed frames)
@@ -242,6 +247,9 @@ void run_bounds_bench(const BoundsBenchOptions& o) {
         const std::size_t reuse_drawn = reuse_r.drawn_primitives();
         const bool reused = reuse_r.reused_shown_set();
         const long reuse_diff = differing(tight_img, reuse_r.read());
+        for (int i = 0; i < 3; ++i) tested_r.draw(cam, light, reuse);
+        const long tested_diff = differing(tight_img, tested_r.read());
+        if (tested_diff) std::printf("WARNING: %ld pixels differ between the frame testing the reused shown set again and the unculled frame\n", tested_diff);
         if (reuse_diff) std::printf("WARNING: %ld pixels differ between the frame reusing the shown set and the unculled frame\n", reuse_diff);
         const bool drew_points = reuse_r.drew_points();
         if (!o.sticks) {  // quads against point sprites: the same picture
@@ -252,13 +260,14 @@ void run_bounds_bench(const BoundsBenchOptions& o) {
         r.draw(cam, light, modes[2]);  // warm-up
         if (general) general->draw(cam, light, modes[2]);  // warm-up
         // Time the frames, interleaved
-        std::vector<double> ms_auto, ms_one_phase, ms_reuse, ms_quads;
+        std::vector<double> ms_auto, ms_one_phase, ms_reuse, ms_tested, ms_quads;
         std::vector<double> ms[3], ms_general, ms_general_comp, ms_cull, ms_rect, ms_late, ms_comp, ms_cull_comp, ms_occ, ms_cull_occ;
         for (int i = 0; i < o.frames; ++i) {
             for (int m = 0; m < 3; ++m) ms[m].push_back(time_frame(r, modes[m]));
             ms_cull.push_back(r.cull_pass_ms());
             ms_auto.push_back(time_frame(r, automatic));
             ms_reuse.push_back(time_frame(reuse_r, reuse));
+            ms_tested.push_back(time_frame(tested_r, reuse));
             if (!o.sticks) ms_quads.push_back(time_frame(quads_r, reuse));
             ms_one_phase.push_back(time_frame(r, one_phase));
             r.set_early_discard(false);
@@ -306,9 +315,9 @@ void run_bounds_bench(const BoundsBenchOptions& o) {
         const double t_one_phase = median(ms_one_phase);
         std::printf(" %8.1f %8.1f%% %8.2fx", t_one_phase, 100.0 * static_cast<double>(one_phase_drawn) / std::max(1, n), t_one_phase / t[2]);
         const double t_reuse = median(ms_reuse);
-        std::printf(" %8.1f %9.1f%%%s %8.2f %8.2f %7.2f %7.2f %10.2fx", t_reuse, 100.0 * static_cast<double>(reuse_drawn) / std::max(1, n), reused ? "" : "*",
+        std::printf(" %8.1f %9.1f%%%s %8.2f %8.2f %7.2f %7.2f %10.2fx %9.1f %11.2fx", t_reuse, 100.0 * static_cast<double>(reuse_drawn) / std::max(1, n), reused ? "" : "*",
                     reuse_frag / covered, double(reuse_counts.started) / covered, double(reuse_counts.cast) / covered, double(reuse_counts.hit) / covered,
-                    t_auto / t_reuse);
+                    t_auto / t_reuse, median(ms_tested), median(ms_tested) / t_reuse);
         if (!o.sticks) std::printf(" %8.1f %4s %10.2fx", median(ms_quads), drew_points ? "yes" : "no", median(ms_quads) / t_reuse);
         if (general) {
             const double m_general = median(ms_general);

@@ -329,7 +329,11 @@ int run_render(const RenderArgs& a) {
                 }
                 std::printf("\n");
             }
-            if (fr.options.occlusion_culling && r.cull_pass_ran())
+            if (fr.options.occlusion_culling && r.unchanged_view())
+                std::printf("%s: the last frame's shown set drawn alone, its view unchanged since the test that chose it: %zu primitives drawn, %zu left out by that test "
+                            "(outside the view or hidden); no cull pass\n",
+                            a.scene.c_str(), r.drawn_primitives(), r.occluded());
+            else if (fr.options.occlusion_culling && r.cull_pass_ran())
                 std::printf("%s: cull pass%s: %zu primitives drawn, %zu culled outside the view, %zu hidden behind %s%s; its compute passes %.1f ms (GL_TIME_ELAPSED)\n", a.scene.c_str(),
                             r.reused_shown_set() ? " reusing the last frame's shown set (2 phases)"
                             : r.phases() > 1 ? (" in " + std::to_string(r.phases()) + " phases").c_str() : "", r.drawn_primitives(), r.frustum_culled(), r.occluded(),

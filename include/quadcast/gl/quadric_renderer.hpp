@@ -84,6 +84,13 @@ public:
     /// a compute pass (a tile of which a pixel, or a neighbour of one, holds geometry) and drawn as
     /// one point each (the default); off, over the whole image. The same picture; a test switch.
     void set_outline_tiles(bool on);
+    /// A frame reusing the last one's shown set (RenderOptions::occlusion_reuse) whose view -- the
+    /// camera's matrices, the viewport, back-face culling, the primitives and settings -- is the one
+    /// that set was tested under draws the set alone (the default): that test kept every primitive
+    /// that can show in this view, so the picture is complete, and testing again could only keep a
+    /// subset. Off, it tests every primitive against what the set drew, as a frame after the camera
+    /// moved does. The same picture either way; a switch for benchmarks and tests.
+    void set_skip_unchanged_view_test(bool on);
     /// In frames that run the cull pass (`cull_pass_ran`), the occluders reach its depth image by a
     /// compute pass that writes each occluder's disks pixel by pixel (the default), or, on, drawn by
     /// the rasteriser into the depth buffer first (one quadrilateral per record,
@@ -157,11 +164,15 @@ public:
     bool cull_pass_ran() const;
     /// The phases the last `draw`'s camera pass drew in (RenderOptions::occlusion_phases where it
     /// drew a phased variant: tetrahedral pieces, or sticks and other primitives without a single
-    /// occluder disk; 2 where it reused the last frame's shown set; else 1).
+    /// occluder disk; 2 where it reused the last frame's shown set, 1 where its view was the one the
+    /// set was tested under; else 1).
     int phases() const;
     /// Whether the last `draw`'s camera pass drew the last frame's shown set first
     /// (RenderOptions::occlusion_reuse).
     bool reused_shown_set() const;
+    /// Whether it drew that set alone, its view unchanged since the set's test
+    /// (`set_skip_unchanged_view_test`; `phases` is then 1).
+    bool unchanged_view() const;
     /// Whether the last `draw` kept the shadow map of an earlier frame instead of drawing it
     /// (RenderOptions::shadow_map_reuse).
     bool reused_shadow_map() const;

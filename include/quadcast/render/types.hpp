@@ -118,7 +118,11 @@ struct RenderOptions {
     /// camera's, the shadow map's), then tests every primitive against the depth those drew and
     /// draws the rest that pass; the results are the next frame's set. Not in frames drawn in
     /// phases, nor into a host's framebuffer (QuadricRenderer::draw_primitives). The camera may
-    /// move between frames: the test runs against this frame's own depth. The same picture.
+    /// move between frames: the test runs against this frame's own depth. Where the view (camera,
+    /// viewport, back-face culling, primitives) is the one the set was last tested under, against
+    /// what the set before it drew, the frame draws the set alone: that test already kept every
+    /// primitive that can show in this view (QuadricRenderer::set_skip_unchanged_view_test). The
+    /// same picture.
     bool occlusion_reuse = true;
     Vec3<float> background{{1.0f, 1.0f, 1.0f}};
     /// Ambient and diffuse weights of every primitive's shading ([2], [3]: the specular and
