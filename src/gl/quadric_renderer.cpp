@@ -945,7 +945,7 @@ private:
         const std::size_t texels = pyramid_texels(levels);
         if (texels > depth_texels_) {  // grown only (the shadow map's pass and the camera's share it)
             upload(depths_, std::vector<std::uint32_t>(texels));
-            view_depth_texels(gl, depth_view_, depths_);
+            view_depth_texels(gl, depth_view_, depths_, texels);
             depth_texels_ = texels;
         }
         if (ph.fresh) {

@@ -7,6 +7,8 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "quadcast/gl/loader.hpp"
@@ -36,13 +38,18 @@ inline std::size_t pyramid_texels(const std::vector<std::array<std::uint32_t, 3>
 /// storage-buffer word lane by lane, and fetches texels for all lanes at once.
 inline constexpr GLuint depth_texels_unit = 8;
 
-/// Points the texture-buffer view `view` (made when 0) at all of `buffer` as GL_R32UI texels; again
-/// after each new data store of `buffer`.
-inline void view_depth_texels(const Api& gl, GLuint& view, GLuint buffer) {
-    if (view == 0) gl.GenTextures(1, &view);
-    gl.BindTexture(GL_TEXTURE_BUFFER, view);
-    gl.TexBuffer(GL_TEXTURE_BUFFER, GL_R32UI, buffer);
-    gl.BindTexture(GL_TEXTURE_BUFFER, 0);
+/// Points the texture-buffer view `view` (made when 0) at all of `buffer`, a pyramid of `texels`
+/// GL_R32UI texels; again after each new data store of `buffer`. A pyramid larger than
+/// GL_MAX_TEXTURE_BUFFER_SIZE (2^27 texels on llvmpipe: viewports and shadow maps up to about
+/// 10000 x 10000) is an error: fetches beyond it would read 0, "behind", and drop what shows.
+inline void view_depth_texels(const Api& gl, GLuint& view, GLuint buffer, std::size_t texels) {
+    GLint max_texels = 0;
+    gl.GetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &max_texels);
+    if (texels > static_cast<std::size_t>(std::max(max_texels, 0)))
+        throw std::runtime_error("quadcast::gl: occlusion culling needs a max-depth pyramid of " + std::to_string(texels) + " texels, more than this GL's GL_MAX_TEXTURE_BUFFER_SIZE (" +
+                                 std::to_string(max_texels) + "): the viewport or shadow map is too large (turn occlusion culling off)");
+    if (view == 0) gl.CreateTextures(GL_TEXTURE_BUFFER, 1, &view);
+    gl.TextureBuffer(view, GL_R32UI, buffer);
 }
 
 /// Levels `written` + 1 .. of a pyramid whose levels up to `written` are written, in the buffer

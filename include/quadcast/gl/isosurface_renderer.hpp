@@ -442,7 +442,7 @@ private:
             gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, pyramid_);
             gl.BufferData(GL_SHADER_STORAGE_BUFFER, static_cast<GLsizeiptr>(texels * sizeof(GLuint)), nullptr, GL_DYNAMIC_COPY);
             gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
-            view_depth_texels(gl, pyramid_view_, pyramid_);
+            view_depth_texels(gl, pyramid_view_, pyramid_, texels);
             pyramid_texels_ = texels;
         }
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, pyramid_);

@@ -296,6 +296,7 @@
     X(void, EnableVertexArrayAttrib, (GLuint vaobj, GLuint index)) \
     X(void, DisableVertexArrayAttrib, (GLuint vaobj, GLuint index)) \
     X(void, CreateTextures, (GLenum target, GLsizei n, GLuint *textures)) \
+    X(void, TextureBuffer, (GLuint texture, GLenum internalformat, GLuint buffer)) \
     X(void, TextureStorage1D, (GLuint texture, GLsizei levels, GLenum internalformat, GLsizei width)) \
     X(void, TextureStorage2D, (GLuint texture, GLsizei levels, GLenum internalformat, GLsizei width, GLsizei height)) \
     X(void, TextureStorage3D, (GLuint texture, GLsizei levels, GLenum internalformat, GLsizei width, GLsizei height, GLsizei depth)) \

@@ -182,6 +182,8 @@ public:
     /// Of the last `draw`'s primitives, those its cull pass left out because they cannot reach a
     /// pixel of the viewport (behind the eye or off screen), and those hidden behind occluders
     /// or, in phased drawing, behind what the earlier phases drew (0 where the cull pass did not run).
+    /// Where it drew the shown set alone (`unchanged_view`: no compute pass ran, `cull_pass_ms` is
+    /// 0), the first is 0 and the second every primitive not in the set (off screen ones too).
     std::size_t frustum_culled() const;
     std::size_t occluded() const;
     /// GPU time (GL_TIME_ELAPSED) of the last `draw`'s cull passes (the camera's and the shadow
