@@ -313,7 +313,7 @@ public:
             s.valid = s.all = s.listed = false;
             s.target = 0;
         }
-        reused_ = false;
+        reused_ = view_unchanged_ = false;
         cull_pass_ran_ = false;
         phase_count_ = 1;
         expected_overlap_ = 0.0;
@@ -483,7 +483,7 @@ public:
 
     /// `drawn_`, `frustum_culled_` and `occluded_` of the frame just drawn.
     void count_culled() {
-        if (cull_pass_ran_ && view_unchanged_) {  // (the set alone: the others, left out by its test, count as hidden)
+        if (view_unchanged_) {  // (the set alone: the others, left out by its test, count as hidden)
             drawn_ = unchanged_drawn_;
             frustum_culled_ = 0;
             occluded_ = count_ - std::min(count_, unchanged_drawn_);
@@ -518,7 +518,7 @@ public:
     bool cull_pass_ran() const { return cull_pass_ran_; }
     int phases() const { return phase_count_; }
     bool reused_shown_set() const { return reused_; }
-    bool unchanged_view() const { return reused_ && view_unchanged_; }
+    bool unchanged_view() const { return view_unchanged_; }
     double expected_overlap() const { return expected_overlap_; }
     std::size_t frustum_culled() const { return frustum_culled_; }
     double cull_pass_ms() const { return cull_ms_; }

@@ -935,7 +935,10 @@ TEST_CASE("reusing the last frame's shown set changes no pixel, as the camera mo
         CHECK_FALSE(r.reused_shown_set());
     }
     // With set_skip_unchanged_view_test(false) every reusing frame tests again, drawing the set
-    // and then what passes: the same picture and the same primitives as the set alone.
+    // and then what passes: the same picture as the set alone, which stays the same set. (The two
+    // renderers' sets may differ by a few primitives: the first frame's occluder disks are written
+    // with plain stores, so which of two overlapping disks a pixel keeps varies from run to run;
+    // either is conservative.)
     for (const Case& c : cases) {
         if (c.name != "dense block, perspective") continue;
         o.occlusion_reuse = true;
@@ -943,13 +946,18 @@ TEST_CASE("reusing the last frame's shown set changes no pixel, as the camera mo
         retest.set_skip_unchanged_view_test(false);
         retest.set_primitives(c.prims);
         r.set_primitives(c.prims);
+        std::size_t set_drawn = 0;
         for (int f = 0; f < 4; ++f) {
             r.draw(c.camera, light, o);
             retest.draw(c.camera, light, o);
             CAPTURE(f);
             CHECK_FALSE(retest.unchanged_view());
             CHECK(r.unchanged_view() == (f >= 2));
-            CHECK(r.drawn_primitives() == retest.drawn_primitives());
+            if (f == 2) set_drawn = r.drawn_primitives();
+            if (f >= 2) {
+                CHECK(r.drawn_primitives() == set_drawn);
+                CHECK(r.drawn_primitives() + r.occluded() == c.prims.size());
+            }
             const ImageDiff d = image_diff(r.read(), retest.read());
             CHECK(d.coverage_diff == 0);
             CHECK(d.color_diff == 0);
