@@ -321,7 +321,7 @@ const char* pyramid_base_shader =
     "    ivec2 t = ivec2(gl_GlobalInvocationID.xy);\n"
     "    if (t.x >= qc_viewport_rect.z || t.y >= qc_viewport_rect.w) return;\n"
     "    float d = texelFetch(qc_drawn_depth, qc_viewport_rect.xy + t, 0).r;\n"
-    "    qc_depth[t.y * qc_viewport_rect.z + t.x] = floatBitsToUint(d > 0.0 ? d : 0.0);  // (never -0.0, whose bits would be largest)\n"
+    "    qc_depth[qc_pyramid_index(uvec3(0u, uvec2(qc_viewport_rect.zw)), uvec2(t))] = floatBitsToUint(d > 0.0 ? d : 0.0);  // (never -0.0, whose bits would be largest)\n"
     "}\n";
 
 /// Occlusion culling, pass 2 of a later phase: per element (relevant tetrahedron) of the phase
@@ -600,7 +600,7 @@ StageText occlusion_bound_stage(bool ortho, bool cells) {
 
 StageText pyramid_base_stage() {
     Stage p;
-    p.text = pyramid_base_shader;
+    p.text = gl::pyramid_index_glsl() + pyramid_base_shader;
     return stage_text(StageText::Kind::compute, "qc_iso_pyramid_base.comp", p, "isosurface renderer, occlusion culling: level 0 of the max-depth pyramid from the copy of the depth buffer");
 }
 

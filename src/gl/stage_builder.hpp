@@ -92,9 +92,11 @@ inline std::string record_varyings_in() {
 /// storage buffer) through a texture-buffer view of that buffer (GL_R32UI, bound at unit
 /// gl::depth_texels_unit of quadcast/gl/depth_pyramid.hpp): `qc_depth_texel(i)`. llvmpipe fetches
 /// a texel for all the SIMD vector's lanes at once, where it loads a storage-buffer word lane by
-/// lane: 64 reads per invocation over 1M invocations took 19-21 against 44-46 ms.
+/// lane: 64 reads per invocation over 1M invocations took 19-21 against 44-46 ms. Also declares
+/// `qc_pyramid_index` (gl::pyramid_index_glsl).
 inline std::string depth_texels_glsl() {
-    return "// The max-depth pyramid (levels packed), read through a texture-buffer view of its storage buffer.\n"
+    return gl::pyramid_index_glsl() +
+           "// The max-depth pyramid (levels packed), read through a texture-buffer view of its storage buffer.\n"
            "layout(binding = " + std::to_string(gl::depth_texels_unit) + ") uniform usamplerBuffer qc_depth_texels;\n"
            "uint qc_depth_texel(uint i) { return texelFetch(qc_depth_texels, int(i)).r; }\n\n";
 }
@@ -124,7 +126,7 @@ inline std::string pyramid_farthest_glsl(unsigned span, bool behind = false) {
         "    uvec3 l = qc_levels[level];\n"
         "    uint farthest = 0u;\n"
         "    for (uint y = b.y >> level; y <= (b.w >> level); ++y)\n"
-        "        for (uint x = b.x >> level; x <= (b.z >> level); ++x) farthest = max(farthest, qc_depth_texel(l.x + y * l.y + x));\n"
+        "        for (uint x = b.x >> level; x <= (b.z >> level); ++x) farthest = max(farthest, qc_depth_texel(qc_pyramid_index(l, uvec2(x, y))));\n"
         "    return farthest;\n"
         "}\n\n";
     if (!behind)

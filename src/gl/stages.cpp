@@ -315,7 +315,7 @@ Stage fragment_shader(const render::QuadricKey& k) {
     if (k.count) m << "    atomicAdd(qc_fragment_count[0], 1u);\n";
     if (k.early)
         m << "    // Behind the occluders at this pixel: nothing of this primitive can show here (quadcast/occlusion.hpp)\n"
-             "    if (qc_nearest > 0.0 && floatBitsToUint(qc_nearest) > qc_depth_texel(uint(int(gl_FragCoord.y) * qc_depth_width + int(gl_FragCoord.x)))) discard;\n";
+             "    if (qc_nearest > 0.0 && floatBitsToUint(qc_nearest) > qc_depth_texel(qc_pyramid_index(uvec3(0u, uint(qc_depth_width), 0u), uvec2(gl_FragCoord.xy)))) discard;\n";
     if (k.count) m << "    atomicAdd(qc_fragment_count[1], 1u);\n";
     m
       << (sphere ? "" : detail::record_varyings_in())
@@ -502,7 +502,7 @@ Stage occluder_shader() {
     add_kernel(s, fns, "occluder_chain_count");
     add_kernel(s, fns, "occluder_chain_disk");
     std::ostringstream m;
-    m << "layout(local_size_x = 64) in;\n\n" << record_glsl << occlusion_buffers << linear_group_glsl
+    m << "layout(local_size_x = 64) in;\n\n" << record_glsl << occlusion_buffers << linear_group_glsl << gl::pyramid_index_glsl()
       << "uniform vec3 qc_right, qc_up;    // first two rows of the world->view rotation\n"
          "uniform vec3 qc_occluder_range;  // near and far view distances an occluder must lie between, gap (quadcast::render::occlusion_range)\n"
          "uniform vec4 qc_pz;             // P22, P32, P23, P33 of the projection\n"
@@ -522,12 +522,13 @@ Stage occluder_shader() {
          "    ivec4 b = ivec4(span);\n"
          "    if (uint(b.z - b.x + 1) * uint(b.w - b.y + 1) > qc_max_pixels) return;\n"
          "    uint bits = floatBitsToUint(s);\n"
-         "    int width = int(qc_viewport.x);\n"
+         "    uvec3 level0 = uvec3(0u, uint(qc_viewport.x), uint(qc_viewport.y));\n"
          "    for (int y = b.y; y <= b.w; ++y)\n"
          "        for (int x = b.x; x <= b.z; ++x) {\n"
          "            bool covered;\n"
          "            qc_ellipse_covers(vec2(x, y) + 0.5, qc_viewport, centre, axes, covered);\n"
-         "            if (covered && bits < qc_depth[y * width + x]) qc_depth[y * width + x] = bits;\n"
+         "            uint at = qc_pyramid_index(level0, uvec2(x, y));\n"
+         "            if (covered && bits < qc_depth[at]) qc_depth[at] = bits;\n"
          "        }\n"
          "}\n\n"
          "void main()\n{\n"
@@ -606,7 +607,7 @@ Stage depth_image_shader() {
          "uniform uvec2 qc_size;              // the viewport, level 0 of the depth image\n"
          "uniform vec4 qc_pz;                 // P22, P32, P23, P33 of the projection\n"
          "uniform uvec3 qc_level1;            // offset, width, height of pyramid level 1 (a 1 x 1 image: level 0)\n\n"
-      << fns.str()
+      << gl::pyramid_index_glsl() << fns.str()
       << "void main()\n{\n"
          "    uvec2 t = gl_GlobalInvocationID.xy;  // a texel of level 1\n"
          "    if (t.x >= qc_level1.y || t.y >= qc_level1.z) return;\n"
@@ -616,7 +617,7 @@ Stage depth_image_shader() {
          "    uint m = 0u;\n"
          "    for (uint k = 0u; k < 4u; ++k) {\n"
          "        uvec2 p = uvec2((k & 1u) == 0u ? c.x : c.z, k < 2u ? c.y : c.w);\n"
-         "        uint at = p.y * qc_size.x + p.x;\n"
+         "        uint at = qc_pyramid_index(uvec3(0u, qc_size), p);\n"
          "        uint v = qc_depth[at];\n"
          "        float s;\n        bool far;\n"
          "        qc_depth_distance(texelFetch(qc_depth_buffer, ivec2(p), 0).r, qc_pz, s, far);\n"
@@ -626,7 +627,7 @@ Stage depth_image_shader() {
          "        }\n"
          "        m = max(m, v);\n"
          "    }\n"
-         "    qc_depth[qc_level1.x + t.y * qc_level1.y + t.x] = m;\n"
+         "    qc_depth[qc_pyramid_index(qc_level1, t)] = m;\n"
          "}\n";
     s.text = m.str();
     return s;
@@ -643,16 +644,16 @@ Stage pyramid_shader() {
          "layout(std430, binding = 3) buffer qc_Depths { uint qc_depth[]; };\n"
          "uniform uvec3 qc_src;  // offset, width, height of the level below\n"
          "uniform uvec3 qc_dst;  // of the level written\n\n"
-      << fns.str()
+      << gl::pyramid_index_glsl() << fns.str()
       << "void main()\n{\n"
          "    uvec2 t = gl_GlobalInvocationID.xy;\n"
          "    if (t.x >= qc_dst.y || t.y >= qc_dst.z) return;\n"
          "    vec4 children;\n"
          "    qc_pyramid_children(vec2(t), vec2(qc_src.yz), children);\n"
          "    uvec4 c = uvec4(children);\n"
-         "    uint m = max(max(qc_depth[qc_src.x + c.y * qc_src.y + c.x], qc_depth[qc_src.x + c.y * qc_src.y + c.z]),\n"
-         "                 max(qc_depth[qc_src.x + c.w * qc_src.y + c.x], qc_depth[qc_src.x + c.w * qc_src.y + c.z]));\n"
-         "    qc_depth[qc_dst.x + t.y * qc_dst.y + t.x] = m;\n"
+         "    uint m = max(max(qc_depth[qc_pyramid_index(qc_src, c.xy)], qc_depth[qc_pyramid_index(qc_src, c.zy)]),\n"
+         "                 max(qc_depth[qc_pyramid_index(qc_src, c.xw)], qc_depth[qc_pyramid_index(qc_src, c.zw)]));\n"
+         "    qc_depth[qc_pyramid_index(qc_dst, t)] = m;\n"
          "}\n";
     s.text = m.str();
     return s;

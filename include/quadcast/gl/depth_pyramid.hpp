@@ -27,6 +27,22 @@ inline std::vector<std::array<std::uint32_t, 3>> pyramid_levels(std::uint32_t w,
     return levels;
 }
 
+/// The packed buffer's index of texel (x, y) of a pyramid level (offset, width, height): offset +
+/// y width + x. The shaders' twin is `qc_pyramid_index` (`pyramid_index_glsl`), in uint
+/// arithmetic (not traced: the float tracer is exact below 2^24 only, and a pyramid may hold up to
+/// GL_MAX_TEXTURE_BUFFER_SIZE texels, `view_depth_texels`).
+inline std::size_t pyramid_index(const std::array<std::uint32_t, 3>& level, std::uint32_t x, std::uint32_t y) {
+    return std::size_t(level[0]) + std::size_t(y) * level[1] + x;
+}
+
+/// GLSL of `qc_pyramid_index(level, p)`, `pyramid_index` for texel p of a level (offset, width,
+/// height) in uint arithmetic: every pass that reads or writes the packed pyramid addresses it so
+/// (tests/gl/test_pyramid_index.cpp runs it against `pyramid_index`).
+inline std::string pyramid_index_glsl() {
+    return "// Texel p of a pyramid level (offset, width, height) in the packed buffer (quadcast::gl::pyramid_index).\n"
+           "uint qc_pyramid_index(uvec3 level, uvec2 p) { return level.x + p.y * level.y + p.x; }\n\n";
+}
+
 /// Texels of all `levels` (the buffer's size in uints).
 inline std::size_t pyramid_texels(const std::vector<std::array<std::uint32_t, 3>>& levels) {
     const auto& l = levels.back();
