@@ -443,22 +443,6 @@ public:
         count_culled();
     }
 
-    /// Appends a camera to a key: the bits of its matrices and eye, and its projection's kind.
-    static void push_camera_key(std::vector<std::uint64_t>& key, const render::Camera& cam) {
-        auto bits = [&](float f) {
-            std::uint32_t u = 0;
-            std::memcpy(&u, &f, sizeof u);
-            key.push_back(u);
-        };
-        for (int c = 0; c < 4; ++c)
-            for (int r = 0; r < 4; ++r) {
-                bits(cam.view[c][r]);
-                bits(cam.projection[c][r]);
-            }
-        for (int i = 0; i < 3; ++i) bits(cam.eye[i]);
-        key.push_back(cam.orthographic);
-    }
-
     /// What the shadow map depends on (RenderOptions::shadow_map_reuse): the light camera (the
     /// light's direction and the bounds of the primitives and passes), the map's size, the
     /// options that change its depths, the renderer's revision (its primitives, setters and
@@ -758,7 +742,22 @@ public:
         }
         occluders_in_depth_ = false;
         gl.Enable(GL_DEPTH_CLAMP);  // (as for the primitives)
-        for (ScenePass* p : passes_) p->draw(cam, light, opt, deferred);
+        // What lies in the depth target under each pass (ScenePass::frame_before): in the
+        // renderer's own targets (cleared), its primitives' picture, exact whatever culling
+        // drew it, so fixed by `view_key` and the target; then each earlier pass's revision.
+        // Unknown in a host's framebuffer, and after a pass without a revision.
+        std::vector<std::uint64_t> before;
+        bool known = depth_target != 0;
+        if (known) {
+            before = view_key(cam, viewport, opt);
+            before.push_back(depth_target);
+        }
+        for (ScenePass* p : passes_) {
+            p->frame_before(known ? &before : nullptr);
+            p->draw(cam, light, opt, deferred);
+            known = known && p->revision() != 0;
+            before.push_back(p->revision());
+        }
         gl.Disable(GL_DEPTH_CLAMP);
     }
 

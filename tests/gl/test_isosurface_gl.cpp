@@ -9,11 +9,13 @@
 #include <string>
 #include <vector>
 
+#include "quadcast/gl/framebuffer.hpp"
 #include "quadcast/gl/isosurface_renderer.hpp"
 #include "quadcast/gl/osmesa_context.hpp"
 #include "quadcast/gl/quadric_renderer.hpp"
 #include "quadcast/render/spline_cpu_renderer.hpp"
 #include "quadcast/spline/render.hpp"
+#include "gl/host_frame.hpp"
 #include "render/render_testing.hpp"
 
 using namespace quadcast;
@@ -574,7 +576,7 @@ TEST_CASE("reusing the last frame's shown set of isosurface elements changes no 
             o.deferred = o.shadows = o.silhouettes = deferred;
             RenderOptions off = o;
             off.occlusion_culling = false;
-            int reused = 0;
+            int reused = 0, alone = 0;
             std::size_t drawn_reuse = 0, drawn_phases = 0;
             for (std::size_t f = 0; f < std::size(frames); ++f) {
                 qr.draw(*frames[f], light, o);
@@ -589,16 +591,24 @@ TEST_CASE("reusing the last frame's shown set of isosurface elements changes no 
                 CHECK(d.coverage_diff == 0);
                 CHECK(d.color_diff == 0);
                 CHECK(d.depth_diff == 0);
-                CHECK(st.phases == (st.reused ? 2 : 3));
-                // The frame after the first of a view reuses its set (the first of all records it)
+                // A frame whose view (and the sphere's depth under the pass) is the last frame's
+                // draws the set that frame's test chose, alone, untested (the first frame of all
+                // records a set after its phases); any other frame after the first reuses the set
+                // and tests every element.
+                const bool same_view = f > 0 && frames[f] == frames[f - 1];
+                CHECK(st.unchanged_view == same_view);
+                CHECK(st.phases == (st.unchanged_view ? 1 : st.reused ? 2 : 3));
                 if (f > 0) CHECK(st.reused);
                 reused += st.reused;
+                alone += st.unchanged_view;
                 if (f == 0) drawn_phases = st.elements - st.occluded;
-                if (f == 2) drawn_reuse = st.elements - st.occluded;
+                if (f == 1) drawn_reuse = st.alone;
             }
-            std::printf("[iso gl] reuse, %s%s: %d of %zu frames reused the shown set; the first view drew %zu elements in 3 phases, %zu reusing the set\n",
-                        render::volume_scheme_name(s), deferred ? " deferred+shadows" : "", reused, std::size(frames), drawn_phases, drawn_reuse);
+            std::printf("[iso gl] reuse, %s%s: %d of %zu frames reused the shown set, %d of them drew it alone; the first view drew %zu elements in 3 phases, "
+                        "%zu as the set alone\n",
+                        render::volume_scheme_name(s), deferred ? " deferred+shadows" : "", reused, std::size(frames), alone, drawn_phases, drawn_reuse);
             CHECK(drawn_reuse < drawn_phases);
+            CHECK(alone == 4);
         }
         // Switched off, or with the GPU list: phases only
         RenderOptions o;
@@ -614,6 +624,82 @@ TEST_CASE("reusing the last frame's shown set of isosurface elements changes no 
         qr.draw(whole, light, o);
         CHECK_FALSE(iso.stats(0).reused);
     }
+}
+
+TEST_CASE("a volume's shown set is drawn alone only while its view and the depth under it stay the same, and every picture stays exact") {
+    // The quadric renderer tells its passes what lies under them (ScenePass::frame_before): its
+    // view, primitives and options, the target, the earlier passes' revisions. The isosurface
+    // renderer draws a set alone where that and its own view are the ones the set was tested
+    // under. Frames where the sphere in front of the surface moves, the isosurface renderer's
+    // settings or the back-face option change, and draws into a host's framebuffer (nothing
+    // known under them) in between, against renderers without occlusion culling, bit for bit.
+    gl::OsmesaContext ctx;
+    const spline::Volume<float> vol = marschner_lobb_volume(28);
+    const double h = 2.0 / 27;
+    const VolumeModel m = prepare_volume(vol, vec3(-1.0, -1.0, -1.0), vec3(h, h, h), VolumeScheme::s31, 0.5f, vec3(0.9f, 0.7f, 0.4f), 2, false);
+    Light light;
+    light.direction = vec3(-0.3f, 0.5f, -1.0f);
+    const Camera cam = camera(false);
+    gl::QuadricRenderer qr(ctx.api()), plain(ctx.api());
+    gl::IsosurfaceRenderer iso(ctx.api()), iso_plain(ctx.api());
+    iso.add_volume(m);
+    iso_plain.add_volume(m);
+    qr.add_pass(iso);
+    plain.add_pass(iso_plain);
+    const std::vector<render::Primitive> near_sphere{qc_render_test::sphere(vec3(0.3f, -0.6f, 0.7f), 0.25f, vec3(0.2f, 0.4f, 0.9f))};
+    const std::vector<render::Primitive> moved_sphere{qc_render_test::sphere(vec3(-0.2f, -0.7f, 0.6f), 0.35f, vec3(0.2f, 0.4f, 0.9f))};
+    RenderOptions o;
+    o.width = 200;
+    o.height = 160;
+    int host_draws = 0;
+    const auto frame = [&](const char* what, bool alone_expected) {
+        RenderOptions off = o;
+        off.occlusion_culling = false;
+        qr.draw(cam, light, o);
+        plain.draw(cam, light, off);
+        const qc_render_test::ImageDiff d = qc_render_test::image_diff(qr.read(), plain.read());
+        const std::string label = what;
+        CAPTURE(label);
+        CHECK(d.covered > 5000);
+        CHECK(d.coverage_diff == 0);
+        CHECK(d.color_diff == 0);
+        CHECK(d.depth_diff == 0);
+        CHECK(iso.stats(0).unchanged_view == alone_expected);
+        if (alone_expected) CHECK(iso.stats(0).alone < iso.stats(0).elements);
+    };
+    for (gl::QuadricRenderer* r : {&qr, &plain}) r->set_primitives(near_sphere);
+    frame("first", false);
+    frame("same view", true);
+    frame("same view again", true);
+    for (gl::QuadricRenderer* r : {&qr, &plain}) r->set_primitives(moved_sphere);
+    frame("the sphere moved", false);
+    frame("after the sphere moved", true);
+    iso.set_tetrahedron_culling(true);  // (the same setting: still a new revision)
+    frame("isosurface setting", false);
+    frame("after the isosurface setting", true);
+    o.culling = !o.culling;
+    frame("back-face culling switched", false);
+    frame("after the switch", true);
+    // A host's framebuffer: nothing is known under the pass, so every draw tests
+    GLuint tex[2] = {0, 0};
+    const GLuint fbo = gl::make_framebuffer(ctx.api(), o.width, o.height, tex, "test");
+    const gl::Api& api = ctx.api();
+    for (int k = 0; k < 2; ++k) {
+        const float black[4] = {0.0f, 0.0f, 0.0f, 1.0f};
+        qc_gl_test::begin_host_frame(api, fbo, o.width, o.height, black);
+        iso.draw(cam, light, o, false);
+        api.BindFramebuffer(GL_FRAMEBUFFER, 0);
+        CHECK_FALSE(iso.stats(0).unchanged_view);
+        CHECK(iso.stats(0).reused == (k > 0));
+        ++host_draws;
+    }
+    api.DeleteFramebuffers(1, &fbo);
+    api.DeleteTextures(2, tex);
+    // The renderer's own target keeps its set (the host's draws listed the elements in their own order)
+    frame("after the host's draws", true);
+    iso.set_skip_unchanged_view_test(false);
+    frame("skip turned off", false);
+    CHECK(host_draws == 2);
 }
 
 TEST_CASE("tet_occlusion_bound, cell_occlusion_bound: every hit the fragment stage can find lies behind the floor and inside the rectangle (long double)") {

@@ -22,6 +22,7 @@
 #include "quadcast/occlusion.hpp"
 #include "quadcast/render/occluder.hpp"
 #include "core/param_test_util.hpp"
+#include "gl/host_frame.hpp"
 #include "render/bounds_scenes.hpp"
 
 using namespace qc_bounds_test;
@@ -742,13 +743,8 @@ TEST_CASE("draw_primitives into a host application's framebuffer: the cull pass 
     // The host draws: its clears, viewport and depth test, then quadcast's primitives; read back
     // top row first, as QuadricRenderer::read.
     auto host_frame = [&](const Camera& cam, const RenderOptions& o) {
-        api.BindFramebuffer(GL_FRAMEBUFFER, fbo);
-        api.Viewport(0, 0, w, h);
-        const float bg[4] = {o.background[0], o.background[1], o.background[2], 1.0f}, one = 1.0f;
-        api.ClearBufferfv(GL_COLOR, 0, bg);
-        api.ClearBufferfv(GL_DEPTH, 0, &one);
-        api.Enable(GL_DEPTH_TEST);
-        api.DepthFunc(GL_LESS);
+        const float bg[4] = {o.background[0], o.background[1], o.background[2], 1.0f};
+        qc_gl_test::begin_host_frame(api, fbo, w, h, bg);
         r.draw_primitives(cam, light, o, false);
         api.BindFramebuffer(GL_FRAMEBUFFER, 0);
         return gl::read_framebuffer(api, fbo, w, h);

@@ -209,8 +209,8 @@ void run(const IsoBenchOptions& a) {
     o.width = a.width;
     o.height = a.height;
 
-    std::printf("%-10s %10s %12s %14s %12s %7s %14s %14s %16s %16s %12s %10s\n", "scheme", "prep ms", "active cubes", "elements", "GL ms", "coeffs", "GL vertex",
-                "GL pre-pass", "GL no reuse", "GL no occlusion", "CPU ms", "CPU/GL");
+    std::printf("%-10s %10s %12s %14s %12s %7s %14s %14s %16s %16s %16s %12s %10s %10s\n", "scheme", "prep ms", "active cubes", "elements", "GL ms", "coeffs", "GL vertex",
+                "GL pre-pass", "GL no reuse", "GL no occlusion", "GL still", "CPU ms", "CPU/GL", "CPU/still");
     const render::VolumeScheme schemes[3] = {render::VolumeScheme::qss, render::VolumeScheme::s31, render::VolumeScheme::trilinear};
     std::vector<render::VolumeModel> models;
     models.reserve(3);
@@ -245,6 +245,14 @@ void run(const IsoBenchOptions& a) {
             gc.push_back(gl.frame(cam, light, o));
         }
         gl.iso.set_coefficient_stage(Stage::automatic);
+        // The same view frame after frame: from the second on, the set drawn alone, untested
+        std::vector<double> gs;
+        bool still = true;
+        gl.frame(cam, light, o);
+        for (int i = 0; i < a.frames; ++i) {
+            gs.push_back(gl.frame(cam, light, o));
+            still = still && gl.iso.stats(0).unchanged_view;
+        }
         for (int i = 0; i < a.cpu_frames; ++i) {
             const auto t1 = std::chrono::steady_clock::now();
             const render::Image img = render::render_volumes_cpu({&m}, cam, light, o);
@@ -256,13 +264,15 @@ void run(const IsoBenchOptions& a) {
             render::write_png(stem + "_cpu.png", render::render_volumes_cpu({&m}, cam, light, o));
         }
         const gl::IsoDrawStats& st = gl.iso.stats(0);
-        char vert[32] = "-", prepass[32] = "-", nocc[32] = "-", noreuse[32] = "-";
+        char vert[32] = "-", prepass[32] = "-", nocc[32] = "-", noreuse[32] = "-", stilled[32] = "-";
+        std::snprintf(stilled, sizeof stilled, "%.1f (%.2fx)%s", median(gs), median(gs) / median(g), still ? "" : "*");
         if (!gv.empty()) std::snprintf(vert, sizeof vert, "%.1f (%.2fx)", median(gv), median(gv) / median(g));
         if (!gc.empty()) std::snprintf(prepass, sizeof prepass, "%.1f (%.2fx)", median(gc), median(gc) / median(g));
         if (!gn.empty()) std::snprintf(nocc, sizeof nocc, "%.1f (%.2fx)", median(gn), median(gn) / median(g));
         std::snprintf(noreuse, sizeof noreuse, "%.1f (%.2fx)", median(gr), median(gr) / median(g));
-        std::printf("%-10s %10.0f %12zu %14zu %12.1f %7s %14s %14s %16s %16s %12.1f %9.1fx\n", render::volume_scheme_name(s), prep, m.active, st.elements, median(g),
-                    s == render::VolumeScheme::trilinear ? "-" : pre ? "pre" : "vertex", vert, prepass, noreuse, nocc, median(c), median(c) / median(g));
+        std::printf("%-10s %10.0f %12zu %14zu %12.1f %7s %14s %14s %16s %16s %16s %12.1f %9.1fx %9.1fx\n", render::volume_scheme_name(s), prep, m.active, st.elements,
+                    median(g), s == render::VolumeScheme::trilinear ? "-" : pre ? "pre" : "vertex", vert, prepass, noreuse, nocc, stilled, median(c),
+                    median(c) / median(g), median(c) / median(gs));
     }
 
     std::printf("\nWhat is skipped (QSS; cubes of the whole grid; frame times interleaved, ratios to all culling on):\n");
@@ -319,7 +329,9 @@ void run(const IsoBenchOptions& a) {
     std::printf("\n(GL ms: the renderer's defaults, the last frame's shown set drawn first (RenderOptions::occlusion_reuse), the coefficients where\n"
                 " CoefficientStage::automatic puts them ('coeffs': averaged in the vertex stage, or in the compute pre-pass); GL vertex, GL pre-pass:\n"
                 " the coefficients always in the one or the other, and the ratio to GL ms (> 1: the default is faster); GL no reuse: occlusion\n"
-                " culling in phases only, and its ratio)\n");
+                " culling in phases only, and its ratio; GL ms comes from frames interleaved with other settings, so each tests every element\n"
+                " against the set's depth; GL still: the same view and settings frame after frame, the set drawn alone without a test\n"
+                " (IsoDrawStats::unchanged_view; '*': not in every frame), its ratio to GL ms, and CPU/still)\n");
     std::printf("(range has rho: the octree keeps the cubes whose coefficient range contains the isovalue; in frustum: of these, the ones\n"
                 " whose box is not outside the view; tets drawn: relevant tetrahedra of those cubes; tets (GPU): the relevant tetrahedra the GPU\n"
                 " element list keeps (each cube's box tested on the GPU); no test: all 24 per cube; GPU list: the frame with the element list\n"

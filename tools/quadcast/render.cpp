@@ -364,9 +364,13 @@ int run_render(const RenderArgs& a) {
             }
             for (std::size_t i = 0; i < iso.volume_count(); ++i) {
                 const gl::IsoDrawStats& s = iso.stats(i);
-                std::printf("%s: volume %zu (%s): %zu active cubes, %zu in the view frustum, %zu of %zu %s drawn in %d phase(s)", a.scene.c_str(), i,
-                            render::volume_scheme_name(volumes[i].scheme), s.active, s.visible, s.elements, s.relevant,
-                            volumes[i].scheme == render::VolumeScheme::trilinear ? "cells" : "relevant tetrahedra", s.phases);
+                const char* what = volumes[i].scheme == render::VolumeScheme::trilinear ? "cells" : "relevant tetrahedra";
+                std::printf("%s: volume %zu (%s): %zu active cubes, %zu in the view frustum, ", a.scene.c_str(), i, render::volume_scheme_name(volumes[i].scheme), s.active, s.visible);
+                if (s.unchanged_view)
+                    std::printf("%zu of %zu %s in view, %zu of them drawn: the last frame's shown set alone (its view and the depth under it unchanged since the "
+                                "test that chose it; no test)", s.elements, s.relevant, what, s.alone);
+                else
+                    std::printf("%zu of %zu %s drawn in %d phase(s)", s.elements, s.relevant, what, s.phases);
                 if (s.phases > 1) std::printf(", %zu of them culled behind the earlier phases%s", s.occluded, s.reused ? " (the first: the last frame's shown set)" : "");
                 if (volumes[i].scheme != render::VolumeScheme::trilinear)
                     std::printf(", coefficients %s", s.pre_pass ? "from the compute pre-pass" : "averaged in the vertex stage");

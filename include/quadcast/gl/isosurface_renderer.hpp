@@ -24,10 +24,12 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <cstring>
 #include <map>
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "quadcast/gl/depth_pyramid.hpp"
@@ -51,6 +53,8 @@ struct IsoDrawStats {
     int phases = 0;                  ///< phases drawn (occlusion culling: each later one tested against the earlier ones' depth)
     std::size_t occluded = 0;        ///< elements of the later phases culled behind the earlier ones
     bool reused = false;             ///< the last frame's shown set was drawn first (RenderOptions::occlusion_reuse)
+    bool unchanged_view = false;     ///< that set was drawn alone, untested: the view and the depth under the pass are those it was tested under
+    std::size_t alone = 0;           ///< with unchanged_view: the set's elements (drawn), of `elements`
     bool pre_pass = false;           ///< the coefficients came from the compute pre-pass (IsosurfaceRenderer::CoefficientStage)
 };
 
@@ -186,7 +190,19 @@ public:
         // leaves it (the ray's part inside the element comes from clipping).
         gl.Enable(GL_CULL_FACE);
         gl.CullFace(GL_FRONT);
-        for (Volume& v : volumes_) draw_volume(v, cam, light, opt, gbuffer);
+        // (the depth under this draw only: a later draw without `frame_before` is unknown)
+        const bool known = std::exchange(before_known_, false);
+        const std::vector<std::uint64_t> before = std::exchange(before_, {});
+        for (std::size_t i = 0; i < volumes_.size(); ++i) {
+            // Under volume i: what lay under the pass and the volumes before it (each fixed by
+            // the view, the renderer's revision and its own model's isovalue)
+            std::vector<std::uint64_t> under;
+            if (known) {
+                under = before;
+                under.push_back(i);
+            }
+            draw_volume(volumes_[i], cam, light, opt, gbuffer, known ? &under : nullptr);
+        }
         gl.Disable(GL_CULL_FACE);
         gl.CullFace(GL_BACK);
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, 0);
@@ -195,6 +211,18 @@ public:
 
     /// Changes with every call that changes what is drawn (the setters above, `add_volume`, `clear`).
     std::uint64_t revision() const override { return revision_; }
+
+    /// The depth under the next `draw` (ScenePass::frame_before). Where it and the view are the
+    /// ones a volume's shown set was tested under (RenderOptions::occlusion_reuse, the CPU list),
+    /// that draw draws the set alone, untested (IsoDrawStats::unchanged_view): the test kept every
+    /// element that can show in front of that depth, and the same depth lies under it now.
+    void frame_before(const std::vector<std::uint64_t>* key) override {
+        before_known_ = key != nullptr;
+        before_ = key ? *key : std::vector<std::uint64_t>{};
+    }
+    /// Whether a frame whose view and underlying depth are unchanged since its shown set was tested
+    /// draws the set alone (true, the default) or tests every element again.
+    void set_skip_unchanged_view_test(bool on) { skip_unchanged_ = on; }
 
     void bounds(Vec3<double>& lo, Vec3<double>& hi) const override {
         lo = Vec3<double>{{1e300, 1e300, 1e300}};
@@ -224,9 +252,17 @@ private:
             GLint target = -1;  ///< the framebuffer
             bool valid = false;
             std::vector<std::uint64_t> bits;
+            std::uint64_t version = 0;        ///< changes with `bits`
+            std::vector<std::uint64_t> view;  ///< `view_key` of the frame that tested it (empty: the depth under the pass was unknown)
         };
         ShownSet shown[2];
         int next_shown = 0;
+        /// The CPU list in `elements` (and `ids`): ordered with this set's elements (`ordered_first`
+        /// of them) first, at its `version`, for the view `ordered_view`; null: no set.
+        const ShownSet* ordered_by = nullptr;
+        std::uint64_t ordered_version = 0;
+        std::vector<std::uint64_t> ordered_view;
+        std::size_t ordered_first = 0, ordered_n = 0;
         std::vector<std::uint32_t> ids;  ///< the frame's elements' `element_id`s, in list order
         /// Host buffers of the CPU list's per-frame work, kept between frames (their pages are
         /// not faulted in and cleared again each frame: tens of MB on the liver)
@@ -500,7 +536,31 @@ private:
         return m.degree() == 3 && n * static_cast<std::size_t>(bb::coefficient_count(3)) * sizeof(float) <= pre_pass_budget_;
     }
 
-    void draw_volume(Volume& v, const render::Camera& cam, const render::Light& light, const render::RenderOptions& opt, bool gbuffer) {
+    /// What decides a volume's shown set (with `under`, the key of the depth under it): the
+    /// camera, the viewport, the depth function, the options of the element selection and of
+    /// occlusion culling, the renderer's revision, the model and its isovalue, the bound
+    /// framebuffer. Empty where `under` is null.
+    std::vector<std::uint64_t> view_key(const Volume& v, const render::Camera& cam, const render::RenderOptions& opt, const std::vector<std::uint64_t>* under,
+                                        GLint depth_func, GLint fbo) const {
+        std::vector<std::uint64_t> key;
+        if (!under) return key;
+        key = *under;
+        push_camera_key(key, cam);
+        GLint viewport[4] = {0, 0, 0, 0};
+        api_->GetIntegerv(GL_VIEWPORT, viewport);
+        for (GLint x : viewport) key.push_back(static_cast<std::uint32_t>(x));
+        key.insert(key.end(), {static_cast<std::uint64_t>(depth_func), static_cast<std::uint64_t>(fbo), static_cast<std::uint64_t>(opt.width),
+                               static_cast<std::uint64_t>(opt.height), static_cast<std::uint64_t>(opt.occlusion_phases), opt.occlusion_culling,
+                               opt.occlusion_reuse, revision_, reinterpret_cast<std::uintptr_t>(v.model)});
+        float iso = v.model->iso;
+        std::uint32_t bits = 0;
+        std::memcpy(&bits, &iso, sizeof bits);
+        key.push_back(bits);
+        return key;
+    }
+
+    void draw_volume(Volume& v, const render::Camera& cam, const render::Light& light, const render::RenderOptions& opt, bool gbuffer,
+                     const std::vector<std::uint64_t>* under) {
         const Api& gl = *api_;
         const render::VolumeModel& m = *v.model;
         const bool tri = m.scheme == render::VolumeScheme::trilinear;
@@ -517,13 +577,31 @@ private:
         // against that depth and the rest that pass are drawn; the results are the next frame's
         // set. A frame without a valid set draws in phases and records the set after them.
         Volume::ShownSet* shown = nullptr;
+        std::vector<std::uint64_t> view;
         if (cull && opt.occlusion_reuse && element_list_ == ElementList::cpu) {
             GLint fbo = 0;
             gl.GetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &fbo);
             shown = &shown_set_of(v.shown, v.next_shown, fbo);
+            view = view_key(v, cam, opt, under, depth_func, fbo);
         }
+        // Drawn alone: the set was tested under this view and the same depth under the pass (so
+        // every element left out lies behind what is drawn now), and has not changed since
+        const bool alone = shown && shown->valid && skip_unchanged_ && !view.empty() && shown->view == view;
         std::size_t first_shown = 0;  // the shown set's elements lead the list
-        const std::size_t n = element_list_ == ElementList::gpu ? gpu_select(v, cam) : cpu_select(v, cam, shown && shown->valid ? shown : nullptr, first_shown);
+        std::size_t n = 0;
+        if (alone && v.ordered_by == shown && v.ordered_version == shown->version && v.ordered_view == view) {
+            n = v.ordered_n;  // (the list is in place, the set's elements first)
+            first_shown = v.ordered_first;
+        } else {
+            n = element_list_ == ElementList::gpu ? gpu_select(v, cam) : cpu_select(v, cam, shown && shown->valid ? shown : nullptr, first_shown);
+            if (shown && shown->valid) {
+                v.ordered_view = view;
+                v.ordered_first = first_shown;
+                v.ordered_n = n;
+            }
+        }
+        v.stats.unchanged_view = alone;  // (after the selection, which sets the statistics)
+        v.stats.alone = 0;
         if (n == 0) return;
         ensure_indices(v, std::min(n, batch_elements), tri);
         gl.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, v.indices);
@@ -550,8 +628,10 @@ private:
             dispatch_rows(gl, static_cast<std::uint32_t>((count + 63) / 64));
             gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
         };
-        const bool reuse = shown && shown->valid && n >= 4096;
-        const std::vector<std::size_t> ends = reuse ? std::vector<std::size_t>{first_shown, n} : phase_ends(n, cull ? opt.occlusion_phases : 1);
+        if (alone) v.stats.alone = first_shown;
+        const bool reuse = shown && shown->valid && (n >= 4096 || alone);
+        const std::vector<std::size_t> ends = alone ? std::vector<std::size_t>{first_shown}
+                                              : reuse ? std::vector<std::size_t>{first_shown, n} : phase_ends(n, cull ? opt.occlusion_phases : 1);
         const bool occlusion = ends.size() > 1;
         if (occlusion && n > v.floor_capacity) {
             v.floor_capacity = std::max(n, 2 * v.floor_capacity);
@@ -589,6 +669,7 @@ private:
             gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 10, v.floors);
             if (!copy_drawn_depth() || !cull_phase(v, cam, light, opt, 0, n, kept, draw_from)) return false;
             read_shown(v, *shown, n);
+            shown->view = view;
             recorded = true;
             return true;
         };
@@ -630,7 +711,7 @@ private:
             std::size_t none = 0;
             test_all(n, none);
         }
-        if (shown) shown->valid = recorded;
+        if (shown) shown->valid = recorded || alone;
         if (occlusion) {
             gl.BindTextureUnit(drawn_unit, 0);
             gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, 0);
@@ -652,6 +733,7 @@ private:
         passed.resize(n);
         api_->GetNamedBufferSubData(v.passed, 0, static_cast<GLsizeiptr>(n * sizeof(std::uint32_t)), passed.data());
         std::fill(set.bits.begin(), set.bits.end(), 0);
+        ++set.version;
         for (std::size_t i = 0; i < n; ++i) {
             if (!passed[i]) continue;
             const std::uint32_t id = v.ids[i];
@@ -695,6 +777,9 @@ private:
         }
         api_->BufferSubData(GL_SHADER_STORAGE_BUFFER, 0, static_cast<GLsizeiptr>(rec.size() * sizeof(std::uint32_t)), rec.data());
         api_->BindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
+        v.ordered_by = shown;
+        v.ordered_version = shown ? shown->version : 0;
+        v.ordered_view.clear();  // (the caller's view, where it keeps the order)
         return n;
     }
 
@@ -840,6 +925,9 @@ private:
     std::size_t pre_pass_budget_ = std::size_t(64) << 20;
     ElementList element_list_ = ElementList::cpu;
     std::uint64_t revision_ = 1;
+    bool before_known_ = false;            ///< `frame_before` gave the depth under the next draw
+    std::vector<std::uint64_t> before_;    ///< its key
+    bool skip_unchanged_ = true;
     /// The occlusion test's copy of the depth buffer, and the texture unit it is read from.
     static constexpr GLuint drawn_unit = 7;
     struct DepthCopy {

@@ -2,11 +2,31 @@
 #pragma once
 
 #include <cstdint>
+#include <cstring>
+#include <vector>
 
 #include "quadcast/linalg.hpp"
 #include "quadcast/render/types.hpp"
 
 namespace quadcast::gl {
+
+/// Appends what a camera contributes to a frame key (the quadric renderer's view and shadow keys,
+/// the isosurface renderer's view key): the view and projection matrices' and the eye's float
+/// bits, and whether it is orthographic.
+inline void push_camera_key(std::vector<std::uint64_t>& key, const render::Camera& cam) {
+    auto bits = [&](float f) {
+        std::uint32_t u = 0;
+        std::memcpy(&u, &f, sizeof u);
+        key.push_back(u);
+    };
+    for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r) {
+            bits(cam.view[c][r]);
+            bits(cam.projection[c][r]);
+        }
+    for (int i = 0; i < 3; ++i) bits(cam.eye[i]);
+    key.push_back(cam.orthographic);
+}
 
 /// Geometry that a `QuadricRenderer` draws in each of its passes after its own primitives: the
 /// shadow map, the forward pass and the geometry buffer of deferred shading share one depth
@@ -30,6 +50,14 @@ public:
     /// (RenderOptions::shadow_map_reuse). 0, the default: not tracked, and the shadow map is
     /// drawn again in every frame.
     virtual std::uint64_t revision() const { return 0; }
+    /// Called by the quadric renderer just before `draw`, about the depth already in the target:
+    /// `key` identifies everything drawn there before this pass in this frame (the renderer's view,
+    /// primitives and options, the target, the revisions of the passes before this one), equal
+    /// keys meaning equal depth; nullptr where it cannot say (a host's framebuffer, a pass before
+    /// this one without a revision). A pass may use it for the next `draw` only: the isosurface
+    /// renderer draws the last frame's shown set alone where its own view and this key are the
+    /// ones its set was tested under. The default ignores it.
+    virtual void frame_before(const std::vector<std::uint64_t>* key) { (void)key; }
 };
 
 }  // namespace quadcast::gl
