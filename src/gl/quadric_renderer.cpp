@@ -6,6 +6,7 @@
 #include "quadcast/gl/depth_pyramid.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -744,13 +745,20 @@ public:
         gl.Enable(GL_DEPTH_CLAMP);  // (as for the primitives)
         // What lies in the depth target under each pass (ScenePass::frame_before): in the
         // renderer's own targets (cleared), its primitives' picture, exact whatever culling
-        // drew it, so fixed by `view_key` and the target; then each earlier pass's revision.
-        // Unknown in a host's framebuffer, and after a pass without a revision.
+        // drew it, so fixed by `view_key`, this renderer and the target; then each earlier
+        // pass's revision, under the light and the options a pass's geometry may depend on.
+        // Unknown in a host's framebuffer, after a pass without a revision, and with the
+        // pass-through stage (a benchmark's: its depth is the drawn bounds').
         std::vector<std::uint64_t> before;
-        bool known = depth_target != 0;
+        bool known = depth_target != 0 && stage_ != render::FragmentStage::passthrough;
         if (known) {
             before = view_key(cam, viewport, opt);
-            before.push_back(depth_target);
+            before.insert(before.end(), {instance_, depth_target, static_cast<std::uint64_t>(deferred), opt.tight_bounds});
+            for (int i = 0; i < 3; ++i) {
+                std::uint32_t u = 0;
+                std::memcpy(&u, &light.direction[i], sizeof u);
+                before.push_back(u);
+            }
         }
         for (ScenePass* p : passes_) {
             p->frame_before(known ? &before : nullptr);
@@ -1414,6 +1422,13 @@ private:
     int shadow_size_ = 0;
     render::Camera light_cam_;
     std::uint64_t revision_ = 0;  ///< changed by every setter, `set_primitives` and the passes' list (the shadow map's key)
+    /// This renderer among all of the process's (the key under its passes: a renderer made anew,
+    /// with the same revision count and GL names handed out again, is not the old one)
+    const std::uint64_t instance_ = next_instance();
+    static std::uint64_t next_instance() {
+        static std::atomic<std::uint64_t> count{0};
+        return ++count;
+    }
     std::vector<std::uint64_t> shadow_key_;  ///< `shadow_key` of the shadow map drawn last
     bool shadow_valid_ = false;   ///< that map may be kept (every pass tracks its revision)
     bool shadow_reused_ = false;  ///< the last `draw` kept it

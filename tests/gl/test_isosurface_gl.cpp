@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <optional>
 #include <random>
 #include <string>
 #include <vector>
@@ -697,6 +698,30 @@ TEST_CASE("a volume's shown set is drawn alone only while its view and the depth
     api.DeleteTextures(2, tex);
     // The renderer's own target keeps its set (the host's draws listed the elements in their own order)
     frame("after the host's draws", true);
+    {
+        // A quadric renderer made anew, as many setter calls, other primitives (its GL names may
+        // be the old one's): the depth under the pass is not the old renderer's
+        std::optional<gl::QuadricRenderer> a, b;
+        a.emplace(ctx.api());
+        a->set_primitives(near_sphere);
+        a->add_pass(iso);
+        a->draw(cam, light, o);
+        a->draw(cam, light, o);
+        CHECK(iso.stats(0).unchanged_view);
+        a.reset();
+        b.emplace(ctx.api());
+        b->set_primitives(moved_sphere);
+        b->add_pass(iso);
+        b->draw(cam, light, o);
+        CHECK_FALSE(iso.stats(0).unchanged_view);
+        RenderOptions off = o;
+        off.occlusion_culling = false;
+        plain.draw(cam, light, off);
+        const qc_render_test::ImageDiff d = qc_render_test::image_diff(b->read(), plain.read());
+        CHECK(d.coverage_diff == 0);
+        CHECK(d.color_diff == 0);
+        CHECK(d.depth_diff == 0);
+    }
     iso.set_skip_unchanged_view_test(false);
     frame("skip turned off", false);
     CHECK(host_draws == 2);

@@ -51,10 +51,12 @@ public:
     /// drawn again in every frame.
     virtual std::uint64_t revision() const { return 0; }
     /// Called by the quadric renderer just before `draw`, about the depth already in the target:
-    /// `key` identifies everything drawn there before this pass in this frame (the renderer's view,
-    /// primitives and options, the target, the revisions of the passes before this one), equal
-    /// keys meaning equal depth; nullptr where it cannot say (a host's framebuffer, a pass before
-    /// this one without a revision). A pass may use it for the next `draw` only: the isosurface
+    /// `key` identifies everything drawn there before this pass in this frame (the renderer, its
+    /// view, primitives and options, the target, the light, the revisions of the passes before
+    /// this one), equal keys meaning equal depth; nullptr where it cannot say (a host's
+    /// framebuffer, a pass before this one without a revision). So a pass's revision must change
+    /// with whatever changes the depth it draws besides the camera, the viewport, the light and
+    /// RenderOptions::culling, tight_bounds and deferred. A pass may use it for the next `draw` only: the isosurface
     /// renderer draws the last frame's shown set alone where its own view and this key are the
     /// ones its set was tested under. The default ignores it.
     virtual void frame_before(const std::vector<std::uint64_t>* key) { (void)key; }
