@@ -754,11 +754,7 @@ public:
         if (known) {
             before = view_key(cam, viewport, opt);
             before.insert(before.end(), {instance_, depth_target, static_cast<std::uint64_t>(deferred), opt.tight_bounds});
-            for (int i = 0; i < 3; ++i) {
-                std::uint32_t u = 0;
-                std::memcpy(&u, &light.direction[i], sizeof u);
-                before.push_back(u);
-            }
+            for (int i = 0; i < 3; ++i) push_float_bits(before, light.direction[i]);
         }
         for (ScenePass* p : passes_) {
             p->frame_before(known ? &before : nullptr);

@@ -10,21 +10,10 @@
 #include <random>
 #include <vector>
 
-namespace {
-
 using quadcast::gl::ComputeRunner;
-using quadcast::gl::OsmesaContext;
-
-OsmesaContext& context() {
-    static OsmesaContext ctx;
-    ctx.make_current();
-    return ctx;
-}
-
-}  // namespace
 
 TEST_CASE("pyramid index: the shaders' qc_pyramid_index addresses the texels gl::pyramid_index does, and the levels pack without gaps") {
-    OsmesaContext& ctx = context();
+    quadcast::gl::OsmesaContext ctx;
     // Input per case: offset, width, height of a level, then x, y; output: the index.
     const std::string source = ComputeRunner::prologue() + quadcast::gl::pyramid_index_glsl() +
                                "void main()\n{\n"

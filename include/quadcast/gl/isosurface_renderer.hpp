@@ -24,9 +24,9 @@
 
 #include <algorithm>
 #include <cstdint>
-#include <cstring>
 #include <map>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -191,17 +191,13 @@ public:
         gl.Enable(GL_CULL_FACE);
         gl.CullFace(GL_FRONT);
         // (the depth under this draw only: a later draw without `frame_before` is unknown)
-        const bool known = std::exchange(before_known_, false);
-        const std::vector<std::uint64_t> before = std::exchange(before_, {});
+        const std::optional<std::vector<std::uint64_t>> before = std::exchange(before_, std::nullopt);
         for (std::size_t i = 0; i < volumes_.size(); ++i) {
             // Under volume i: what lay under the pass and the volumes before it (each fixed by
             // the view, the renderer's revision and its own model's isovalue)
-            std::vector<std::uint64_t> under;
-            if (known) {
-                under = before;
-                under.push_back(i);
-            }
-            draw_volume(volumes_[i], cam, light, opt, gbuffer, known ? &under : nullptr);
+            std::optional<std::vector<std::uint64_t>> under = before;
+            if (under) under->push_back(i);
+            draw_volume(volumes_[i], cam, light, opt, gbuffer, under ? &*under : nullptr);
         }
         gl.Disable(GL_CULL_FACE);
         gl.CullFace(GL_BACK);
@@ -217,8 +213,7 @@ public:
     /// that draw draws the set alone, untested (IsoDrawStats::unchanged_view): the test kept every
     /// element that can show in front of that depth, and the same depth lies under it now.
     void frame_before(const std::vector<std::uint64_t>* key) override {
-        before_known_ = key != nullptr;
-        before_ = key ? *key : std::vector<std::uint64_t>{};
+        before_ = key ? std::optional<std::vector<std::uint64_t>>(*key) : std::nullopt;
     }
     /// Whether a frame whose view and underlying depth are unchanged since its shown set was tested
     /// draws the set alone (true, the default) or tests every element again.
@@ -552,10 +547,7 @@ private:
         key.insert(key.end(), {static_cast<std::uint64_t>(depth_func), static_cast<std::uint64_t>(fbo), static_cast<std::uint64_t>(opt.width),
                                static_cast<std::uint64_t>(opt.height), static_cast<std::uint64_t>(opt.occlusion_phases), opt.occlusion_culling,
                                opt.occlusion_reuse, revision_, reinterpret_cast<std::uintptr_t>(v.model)});
-        float iso = v.model->iso;
-        std::uint32_t bits = 0;
-        std::memcpy(&bits, &iso, sizeof bits);
-        key.push_back(bits);
+        push_float_bits(key, v.model->iso);
         return key;
     }
 
@@ -925,8 +917,7 @@ private:
     std::size_t pre_pass_budget_ = std::size_t(64) << 20;
     ElementList element_list_ = ElementList::cpu;
     std::uint64_t revision_ = 1;
-    bool before_known_ = false;            ///< `frame_before` gave the depth under the next draw
-    std::vector<std::uint64_t> before_;    ///< its key
+    std::optional<std::vector<std::uint64_t>> before_;  ///< the key `frame_before` gave for the next draw (none: unknown)
     bool skip_unchanged_ = true;
     /// The occlusion test's copy of the depth buffer, and the texture unit it is read from.
     static constexpr GLuint drawn_unit = 7;

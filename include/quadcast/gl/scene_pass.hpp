@@ -10,21 +10,23 @@
 
 namespace quadcast::gl {
 
+/// Appends the bits of `f` to a frame key.
+inline void push_float_bits(std::vector<std::uint64_t>& key, float f) {
+    std::uint32_t u = 0;
+    std::memcpy(&u, &f, sizeof u);
+    key.push_back(u);
+}
+
 /// Appends what a camera contributes to a frame key (the quadric renderer's view and shadow keys,
 /// the isosurface renderer's view key): the view and projection matrices' and the eye's float
 /// bits, and whether it is orthographic.
 inline void push_camera_key(std::vector<std::uint64_t>& key, const render::Camera& cam) {
-    auto bits = [&](float f) {
-        std::uint32_t u = 0;
-        std::memcpy(&u, &f, sizeof u);
-        key.push_back(u);
-    };
     for (int c = 0; c < 4; ++c)
         for (int r = 0; r < 4; ++r) {
-            bits(cam.view[c][r]);
-            bits(cam.projection[c][r]);
+            push_float_bits(key, cam.view[c][r]);
+            push_float_bits(key, cam.projection[c][r]);
         }
-    for (int i = 0; i < 3; ++i) bits(cam.eye[i]);
+    for (int i = 0; i < 3; ++i) push_float_bits(key, cam.eye[i]);
     key.push_back(cam.orthographic);
 }
 
