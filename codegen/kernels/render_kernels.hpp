@@ -508,6 +508,86 @@ struct PcfSampleTexelKernel {
     }
 };
 
+/// Soft shadows: the map texel that a texel of the shadow map in phases holds (`phase_source_texel`).
+struct PhaseSourceTexelKernel {
+    static constexpr const char* name = "phase_source_texel";
+    static constexpr const char* source = "quadcast::phase_source_texel (quadcast/shading.hpp)";
+    static constexpr const char* summary = "percentage-closer filtering: the shadow-map texel held by a texel of the map in phases of the sample step";
+    template <class IO> static void run(IO& io) {
+        using T = typename IO::T;
+        const T x = io.scalar("x"), step = io.scalar("step"), tile = io.scalar("tile"), inv_tile = io.scalar("inv_tile"), last = io.scalar("last");
+        io.out("texel", phase_source_texel(x, step, tile, inv_tile, last));
+    }
+    static void generate(std::mt19937& rng, std::span<float> in) {
+        std::size_t p = 0;
+        const float step = std::floor(uniform(rng, 1.0f, 64.999f)), map = std::floor(uniform(rng, 64.0f, 8192.0f));
+        const float tile = std::ceil(map / step) + 2.0f * pcf_phase_margin;
+        put(in, p, std::floor(uniform(rng, 0.0f, step * tile - 0.001f)));
+        put(in, p, step);
+        put(in, p, tile);
+        put(in, p, 1.0f / tile);
+        put(in, p, map - 1.0f);
+    }
+};
+
+/// Soft shadows: where a receiver's PCF samples lie in the shadow map in phases (`pcf_phase`).
+struct PcfPhaseKernel {
+    static constexpr const char* name = "pcf_phase";
+    static constexpr const char* source = "quadcast::pcf_phase (quadcast/shading.hpp)";
+    static constexpr const char* summary = "percentage-closer filtering: the first sample's texel in the shadow map in phases";
+    template <class IO> static void run(IO& io) {
+        using T = typename IO::T;
+        const Vec2<T> texel = io.template vec<2>("texel");
+        const T step = io.scalar("step"), inv_step = io.scalar("inv_step"), last = io.scalar("last"), tile = io.scalar("tile");
+        io.out("cell", pcf_phase(texel, step, inv_step, last, tile));
+    }
+    static void generate(std::mt19937& rng, std::span<float> in) {
+        std::size_t p = 0;
+        const float step = std::floor(uniform(rng, 1.0f, 8.999f));
+        // positions inside the map, near and beyond its borders
+        put(in, p, vec2(uniform(rng, -80.0f, 1104.0f), uniform(rng, -80.0f, 1104.0f)));
+        put(in, p, step);
+        put(in, p, 1.0f / step);
+        put(in, p, 1023.0f);
+        put(in, p, std::ceil(1024.0f / step) + 2.0f * pcf_phase_margin);
+    }
+};
+
+/// Soft shadows: where textureGather reads four PCF samples of a phase layer (`pcf_gather_coord`).
+struct PcfGatherCoordKernel {
+    static constexpr const char* name = "pcf_gather_coord";
+    static constexpr const char* source = "quadcast::pcf_gather_coord (quadcast/shading.hpp)";
+    static constexpr const char* summary = "percentage-closer filtering: the normalised corner of a 2 x 2 block of samples in a phase layer";
+    template <class IO> static void run(IO& io) {
+        using T = typename IO::T;
+        const Vec2<T> cell = io.template vec<2>("cell");
+        const T gx = io.scalar("gx"), gy = io.scalar("gy"), inv_size = io.scalar("inv_size");
+        io.out("uv", pcf_gather_coord(cell, gx, gy, inv_size));
+    }
+    static void generate(std::mt19937& rng, std::span<float> in) {
+        std::size_t p = 0;
+        const float size = std::floor(uniform(rng, 16.0f, 8192.0f));
+        put(in, p, vec2(std::floor(uniform(rng, 0.0f, size - 8.0f)), std::floor(uniform(rng, 0.0f, size - 8.0f))));
+        put(in, p, 2.0f * std::floor(uniform(rng, 0.0f, 3.999f)));
+        put(in, p, 2.0f * std::floor(uniform(rng, 0.0f, 3.999f)));
+        put(in, p, 1.0f / size);
+    }
+};
+
+/// Soft shadows: the 64-sample lit fraction from the count of all 64 (`pcf_fraction_of64`).
+struct PcfFractionOf64Kernel {
+    static constexpr const char* name = "pcf_fraction_of64";
+    static constexpr const char* source = "quadcast::pcf_fraction_of64 (quadcast/shading.hpp)";
+    static constexpr const char* summary = "percentage-closer filtering with 64 samples: the lit fraction from the count of all 64";
+    template <class IO> static void run(IO& io) {
+        io.out("lit", pcf_fraction_of64(io.scalar("count64")));
+    }
+    static void generate(std::mt19937& rng, std::span<float> in) {
+        std::size_t p = 0;
+        put(in, p, std::floor(uniform(rng, 0.0f, 64.999f)));
+    }
+};
+
 /// Silhouettes: one texel of the 3x3 neighbourhood, clamped to the image (`neighbour_texel`).
 struct NeighbourTexelKernel {
     static constexpr const char* name = "neighbour_texel";

@@ -155,6 +155,73 @@ Vec2<T> pcf_sample_texel(const Vec2<T>& texel, const T& g, const T& step, const 
     return vec2(clamp_texel(floor(texel[0]) + gx * step - centre, last), clamp_texel(floor(texel[1]) + gy * step - centre, last));
 }
 
+/// An integer x split by a step of `step`: (q, r) with x = q step + r and 0 <= r < step, from
+/// `inv_step` = 1 / step (rounded: the quotient may be one off, and is corrected).
+/// Numerics: exact for integers |x| < 2^22 and 1 <= step < 2^22 held in float: q0 = floor(x inv_step)
+/// is within one of the quotient; the corrections are exact integer arithmetic.
+template <class T>
+Vec2<T> split_by_step(const T& x, const T& step, const T& inv_step) {
+    const T q0 = floor(x * inv_step);
+    const T r0 = x - q0 * step;
+    const T q = select(r0 < T(0), q0 - T(1), select(r0 >= step, q0 + T(1), q0));
+    return vec2(q, x - q * step);
+}
+
+/// Margin, in texels, on each side of a tile of the shadow map in phases (`phase_source_texel`).
+inline constexpr int pcf_phase_margin = 8;
+
+/// The shadow map in phases of the PCF step, so that a receiver's 64 PCF samples, `step` texels
+/// apart in the map, are 8 x 8 consecutive texels there and a renderer can read them four at a
+/// time (textureGather; `pcf_phase`, `pcf_gather_coord`). Per axis the image is `step` tiles of
+/// `tile` = ceil(map size / step) + 2 `pcf_phase_margin` texels; texel X = r tile + i of it holds
+/// map texel (i - margin) step + r, clamped to the map as `pcf_sample_texel` clamps (the
+/// margins hold the clamped samples of footprints that reach past the map's edges). This is
+/// that map texel of X (per axis), given `inv_tile` = 1 / tile and the map's last texel `last`.
+/// Numerics: `split_by_step` of X by the tile, then exact integers and `clamp_texel`.
+template <class T>
+T phase_source_texel(const T& x, const T& step, const T& tile, const T& inv_tile, const T& last) {
+    const Vec2<T> ri = split_by_step(x, tile, inv_tile);
+    return clamp_texel((ri[1] - T(pcf_phase_margin)) * step + ri[0], last);
+}
+
+/// The texel of the shadow map in phases (`phase_source_texel`) that holds the first PCF sample
+/// around shadow-map position `texel` (`shadow_coord`), for a grid step of `step` texels
+/// (`inv_step` = 1 / step), a map of last texel `last` and tiles of `tile` texels: sample (gx, gy)
+/// (grid cell 8 gy + gx of `pcf_sample_texel`) is then at cell + (gx, gy), for every position.
+/// Numerics: per axis o = floor(texel) - floor(7 step / 2), the first sample's texel as in
+/// `pcf_sample_texel`, limited to [-7 step, last] (a NaN gives -7 step): beyond those bounds every
+/// sample clamps to the same texel as at them; (q, r) = `split_by_step` of o; r tile + q + margin.
+/// Exact integers.
+template <class T>
+Vec2<T> pcf_phase(const Vec2<T>& texel, const T& step, const T& inv_step, const T& last, const T& tile) {
+    const T centre = floor(T(7) * step * T(0.5));
+    const T low = -(T(7) * step);
+    const auto axis = [&](const T& p) {
+        const T o = floor(p) - centre;
+        const Vec2<T> qr = split_by_step(select(o >= low, min(o, last), low), step, inv_step);
+        return qr[1] * tile + qr[0] + T(pcf_phase_margin);
+    };
+    return vec2(axis(texel[0]), axis(texel[1]));
+}
+
+/// The normalised coordinate at which textureGather reads the 2 x 2 texels (cell + (gx, gy)) ..
+/// (cell + (gx + 1, gy + 1)) of the map in phases, `inv_size` = 1 / its texels per side: their shared
+/// corner, (cell + (gx, gy) + 1) inv_size (a gather reads the texels floor(u size - 0.5) and the
+/// next, and u size is within far less than 0.5 of the corner).
+/// Numerics: exact integer sums, one rounded product per component.
+template <class T>
+Vec2<T> pcf_gather_coord(const Vec2<T>& cell, const T& gx, const T& gy, const T& inv_size) {
+    return vec2((cell[0] + gx + T(1)) * inv_size, (cell[1] + gy + T(1)) * inv_size);
+}
+
+/// The 64-sample lit fraction from the count of all 64 samples that are lit: equal to
+/// `pcf_fraction64` of the first 8's fraction and the other 56's count.
+/// Numerics: count64 / 64 (exact).
+template <class T>
+T pcf_fraction_of64(const T& count64) {
+    return count64 / T(64);
+}
+
 /// The texel at offset (dx, dy) from the pixel at window position `frag` (a pixel centre, i + 0.5),
 /// clamped to the image [0, last.x] x [0, last.y]: the 3x3 neighbourhood of the silhouette pass.
 /// Numerics: floor(frag) + d (exact integers), `clamp_texel` per component.

@@ -202,6 +202,15 @@ public:
         ++revision_;
     }
     void set_outline_tiles(bool on) { outline_tiles_ = on; }
+    void set_shadow_phases(bool on) { shadow_phases_ = on; }
+    bool used_shadow_phases() const { return phases_used_; }
+
+    /// Whether the deferred pass may read the shadow map in phases (set_shadow_phases); it does where
+    /// they are made, for a map kept from an earlier frame.
+    bool phases_for(const render::RenderOptions& opt) const { return opt.shadows && shadow_phases_ && opt.pcf_step >= 1; }
+    /// Whether the shadow map in phases holds the current map (the same key, so the same depths
+    /// even where the map was drawn again) for this PCF step.
+    bool phases_ready(const render::RenderOptions& opt) const { return ptex_ != 0 && shadow_valid_ && phases_step_ == opt.pcf_step && phases_key_ == shadow_key_; }
     void set_skip_unchanged_view_test(bool on) {
         keep_unchanged_sets_ = on;
         ++revision_;
@@ -344,6 +353,7 @@ public:
         const Api& gl = *api_;
         cull_queries_used_ = 0;
         cull_ms_ = 0.0;
+        phases_used_ = false;
         ensure_fbo(opt.width, opt.height);
         // Other passes shade forward without environment reflection: with an environment they
         // go through the geometry buffer (the same image for the primitives).
@@ -380,6 +390,10 @@ public:
                 // Kept for the next frames where every pass tracks its revision.
                 shadow_valid_ = std::all_of(passes_.begin(), passes_.end(), [](const ScenePass* p) { return p->revision() != 0; });
                 shadow_key_ = std::move(key);
+            } else if (phases_for(opt) && !phases_ready(opt)) {
+                // Made for a map kept from an earlier frame: where the map changes every frame,
+                // making them (about 15 ms at 2048^2 on llvmpipe) costs more than they save.
+                make_shadow_phases(opt.pcf_step);
             }
         } else {
             shadow_reused_ = false;
@@ -1176,7 +1190,8 @@ private:
         // may show (OcclusionPass::outline_tiles), unless `set_outline_tiles(false)`.
         const bool split = depth_test_;
         const bool tiles = split && opt.silhouettes && outline_tiles_;
-        const render::DeferredKey shading{opt.shadows, opt.silhouettes, opt.environment != nullptr, false};
+        const render::DeferredKey shading{opt.shadows, opt.silhouettes, opt.environment != nullptr, false, false, phases_for(opt) && phases_ready(opt)};
+        phases_used_ = shading.phases;
         const render::DeferredKey background{false, opt.silhouettes, false, true, tiles};
         const std::pair<render::DeferredKey, const Program*> passes[2] = {{shading, &programs_.get(shading)},  // (compiled before any state changes)
                                                                           {background, split && opt.silhouettes ? &programs_.get(background) : nullptr}};
@@ -1224,6 +1239,12 @@ private:
             }
             if (key.shadows) {
                 gl.BindTextureUnit(3, stex_);
+                if (key.phases) {
+                    gl.BindTextureUnit(5, ptex_);
+                    gl.Uniform1f(prog.uniform_location("qc_pcf_inv_step"), 1.0f / static_cast<float>(opt.pcf_step));
+                    gl.Uniform1f(prog.uniform_location("qc_phase_tile"), static_cast<float>(phase_tile_));
+                    gl.Uniform1f(prog.uniform_location("qc_phase_inv_size"), 1.0f / static_cast<float>(phase_tile_ * opt.pcf_step));
+                }
                 const Mat4<float> m = render::camera_to_light(cam, light_cam_);
                 float to_light[16];
                 for (int j = 0; j < 4; ++j)
@@ -1253,7 +1274,45 @@ private:
             gl.DepthFunc(GL_LESS);
             gl.Disable(GL_DEPTH_TEST);
         }
-        for (int i = 0; i < 5; ++i) gl.BindTextureUnit(static_cast<GLuint>(i), 0);
+        for (int i = 0; i < 6; ++i) gl.BindTextureUnit(static_cast<GLuint>(i), 0);
+    }
+
+    /// The shadow map in phases of the PCF step for the deferred pass's gathered samples
+    /// (DeferredKey::phases, OcclusionPass::shadow_phases, `phase_source_texel`): an R32F image of
+    /// step x step tiles of ceil(size / step) + 2 pcf_phase_margin texels per side, made once per
+    /// map drawn and step (kept with a kept map).
+    void make_shadow_phases(int step) {
+        const Api& gl = *api_;
+        const int tile = (shadow_size_ + step - 1) / step + 2 * pcf_phase_margin;
+        if (ptex_ == 0 || phase_tile_ != tile || phase_step_alloc_ != step) {
+            if (ptex_ != 0) gl.DeleteTextures(1, &ptex_);
+            gl.GenTextures(1, &ptex_);
+            gl.BindTexture(GL_TEXTURE_2D, ptex_);
+            gl.TexStorage2D(GL_TEXTURE_2D, 1, GL_R32F, tile * step, tile * step);
+            gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+            gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+            gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+            gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+            gl.BindTexture(GL_TEXTURE_2D, 0);
+            phase_tile_ = tile;
+            phase_step_alloc_ = step;
+        }
+        const Program& prog = programs_.get(render::OcclusionKey{render::OcclusionPass::shadow_phases});
+        gl.UseProgram(prog.id());
+        gl.Uniform1i(prog.uniform_location("qc_size"), tile * step);
+        gl.Uniform1f(prog.uniform_location("qc_last"), static_cast<float>(shadow_size_ - 1));
+        gl.Uniform1f(prog.uniform_location("qc_pcf_step"), static_cast<float>(step));
+        gl.Uniform1f(prog.uniform_location("qc_phase_tile"), static_cast<float>(tile));
+        gl.Uniform1f(prog.uniform_location("qc_phase_inv_tile"), 1.0f / static_cast<float>(tile));
+        gl.BindTextureUnit(0, stex_);
+        gl.BindImageTexture(0, ptex_, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
+        const auto groups = static_cast<GLuint>((tile * step + 7) / 8);
+        gl.DispatchCompute(groups, groups, 1);
+        gl.MemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
+        gl.BindImageTexture(0, 0, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
+        gl.BindTextureUnit(0, 0);
+        phases_step_ = step;
+        phases_key_ = shadow_key_;
     }
 
     /// The environment image as an RGB32F texture (the floats of the map, read with texelFetch:
@@ -1299,6 +1358,9 @@ private:
     }
 
     void release_shadow_map() {
+        if (ptex_ != 0) api_->DeleteTextures(1, &ptex_);
+        ptex_ = 0;
+        phases_step_ = 0;
         if (sfbo_ == 0) return;
         api_->DeleteFramebuffers(1, &sfbo_);
         api_->DeleteTextures(1, &stex_);
@@ -1378,6 +1440,13 @@ private:
     GLuint tiles_ = 0, tile_command_ = 0;     ///< the deferred pass's outline tiles and their draw command
     std::uint32_t tile_capacity_ = 0;
     bool outline_tiles_ = true;
+    bool shadow_phases_ = true;     ///< set_shadow_phases
+    GLuint ptex_ = 0;               ///< the shadow map in phases (make_shadow_phases)
+    int phase_tile_ = 0;            ///< texels per side of a tile of ptex_
+    int phase_step_alloc_ = 0;      ///< ptex_'s tiles per side
+    int phases_step_ = 0;           ///< the PCF step of ptex_'s phases
+    std::vector<std::uint64_t> phases_key_;  ///< `shadow_key` of the map ptex_ holds in phases
+    bool phases_used_ = false;      ///< the last deferred pass read ptex_
     GLuint sfbo_ = 0, stex_ = 0;             ///< shadow map
     GLuint etex_ = 0;                        ///< environment map
     GLuint occluders_ = 0, depths_ = 0, visible_ = 0, commands_ = 0, keep_ = 0, groups_ = 0;  ///< occlusion culling
@@ -1468,6 +1537,8 @@ void QuadricRenderer::set_slab_quads(bool on) { impl_->set_slab_quads(on); }
 void QuadricRenderer::set_early_discard(bool on) { impl_->set_early_discard(on); }
 void QuadricRenderer::set_compute_bounds(bool on) { impl_->set_compute_bounds(on); }
 void QuadricRenderer::set_outline_tiles(bool on) { impl_->set_outline_tiles(on); }
+void QuadricRenderer::set_shadow_phases(bool on) { impl_->set_shadow_phases(on); }
+bool QuadricRenderer::used_shadow_phases() const { return impl_->used_shadow_phases(); }
 void QuadricRenderer::set_skip_unchanged_view_test(bool on) { impl_->set_skip_unchanged_view_test(on); }
 void QuadricRenderer::set_raster_occluders(bool on) { impl_->set_raster_occluders(on); }
 void QuadricRenderer::set_point_sprites(bool on) { impl_->set_point_sprites(on); }

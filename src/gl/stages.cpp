@@ -358,8 +358,9 @@ Stage fragment_shader(const render::QuadricKey& k) {
 /// neighbourhood (texel coordinates clamped to the image); with `env` the environment reflection
 /// mixed into the shaded colour before the outline. With `background`, the background colour and
 /// the outline only (the renderer draws it where nothing was hit; no shading, shadows or
-/// environment).
-Stage deferred_shader(bool silhouettes, bool shadows, bool env, bool background) {
+/// environment). With `phases` (and `shadows`) the penumbra's 64 samples are read four at a time
+/// from the shadow map in phases (`shadow_phases_shader`, unit 5).
+Stage deferred_shader(bool silhouettes, bool shadows, bool env, bool background, bool phases) {
     Stage s;
     std::ostringstream fns;
     if (!background) add_kernel(s, fns, shadows ? "shade_blinn_phong_shadowed" : "shade_blinn_phong");
@@ -373,6 +374,11 @@ Stage deferred_shader(bool silhouettes, bool shadows, bool env, bool background)
         add_kernel(s, fns, "pcf_count_step");
         add_kernel(s, fns, "pcf_fraction64");
         add_kernel(s, fns, "pcf_sample_texel");
+        if (phases) {
+            add_kernel(s, fns, "pcf_phase");
+            add_kernel(s, fns, "pcf_gather_coord");
+            add_kernel(s, fns, "pcf_fraction_of64");
+        }
     }
     if (env) {
         add_kernel(s, fns, "environment_texel");
@@ -402,6 +408,11 @@ Stage deferred_shader(bool silhouettes, bool shadows, bool env, bool background)
              "const float qc_pcf_order[64] = float[64](";
         for (int i = 0; i < 64; ++i) m << (i ? ", " : "") << pcf_grid_order[i] << ".0";
         m << ");\n";
+        if (phases)
+            m << "layout(binding = 5) uniform sampler2D qc_shadow_phases;  // the map in phases of the step (phase_source_texel)\n"
+                 "uniform float qc_pcf_inv_step;    // 1 / qc_pcf_step\n"
+                 "uniform float qc_phase_tile;      // texels per side of a tile of it\n"
+                 "uniform float qc_phase_inv_size;  // 1 / its texels per side\n";
     }
     if (env) m << environment_uniforms;
     m << "layout(location = 0) out vec4 qc_color;\n\n";
@@ -433,8 +444,26 @@ Stage deferred_shader(bool silhouettes, bool shadows, bool env, bool background)
              "    float vis;\n    bool decided;\n"
              "    qc_pcf_first8_from_count(count, vis, decided);\n"
              "    decided = decided || !covered;\n"
-             "    count = 0.0;\n"
-             "    for (int k = 8; k < qc_pcf_samples; ++k) {\n"
+             "    count = 0.0;\n";
+    if (shadows && phases)
+        // The penumbra's 64 samples: 16 gathers of 2 x 2 from the map in phases, where they are
+        // 8 x 8 consecutive texels (`pcf_phase`), each counted as read, all 64 (the first 8
+        // again). A loop, not a branch, for llvmpipe (above), its bound from the uniform (4 rows
+        // of 4 gathers).
+        m << "    vec2 cell;\n"
+             "    qc_pcf_phase(st, qc_pcf_step, qc_pcf_inv_step, qc_shadow_size - 1.0, qc_phase_tile, cell);\n"
+             "    for (int gy = 0; gy < (qc_pcf_samples >> 4); ++gy) {\n"
+             "        if (decided) break;\n"
+             "        for (int gx = 0; gx < 4; ++gx) {\n"
+             "            vec2 uv;\n"
+             "            qc_pcf_gather_coord(cell, float(2 * gx), float(2 * gy), qc_phase_inv_size, uv);\n"
+             "            vec4 s4 = textureGather(qc_shadow_phases, uv);\n"
+             "            for (int i = 0; i < 4; ++i) qc_pcf_count_step(count, lz, qc_shadow_bias, s4[i], count);\n"
+             "        }\n"
+             "    }\n"
+             "    if (!decided) qc_pcf_fraction_of64(count, vis);\n";
+    else if (shadows)
+        m << "    for (int k = 8; k < qc_pcf_samples; ++k) {\n"
              "        if (decided) break;\n"
              "        qc_pcf_count_step(count, lz, qc_shadow_bias, qc_shadow_sample(st, k), count);\n"
              "    }\n"
@@ -917,9 +946,41 @@ Stage outline_tiles_shader() {
     return s;
 }
 
+/// The shadow map in phases for the deferred pass's gathered PCF samples (DeferredKey::phases,
+/// `pcf_phase`): each texel of an R32F image of step x step tiles, margins included, holds the
+/// map texel of `phase_source_texel` per axis.
+Stage shadow_phases_shader() {
+    Stage s;
+    std::ostringstream fns;
+    add_kernel(s, fns, "phase_source_texel");
+    std::ostringstream m;
+    m << "layout(local_size_x = 8, local_size_y = 8) in;\n\n"
+         "layout(binding = 0) uniform sampler2D qc_shadow_map;\n"
+         "layout(r32f, binding = 0) writeonly uniform image2D qc_phases;\n"
+         "uniform int qc_size;            // the phase image's texels per side\n"
+         "uniform float qc_last;          // the map's last texel\n"
+         "uniform float qc_pcf_step;      // texels between PCF samples\n"
+         "uniform float qc_phase_tile;    // texels per side of a tile\n"
+         "uniform float qc_phase_inv_tile;  // 1 / qc_phase_tile\n\n"
+      << fns.str()
+      << "void main()\n{\n"
+         "    ivec2 p = ivec2(gl_GlobalInvocationID.xy);\n"
+         "    if (p.x >= qc_size || p.y >= qc_size) return;\n"
+         "    float x, y;\n"
+         "    qc_phase_source_texel(float(p.x), qc_pcf_step, qc_phase_tile, qc_phase_inv_tile, qc_last, x);\n"
+         "    qc_phase_source_texel(float(p.y), qc_pcf_step, qc_phase_tile, qc_phase_inv_tile, qc_last, y);\n"
+         "    imageStore(qc_phases, p, vec4(texelFetch(qc_shadow_map, ivec2(x, y), 0).r));\n"
+         "}\n";
+    s.text = m.str();
+    return s;
+}
+
 /// The compute stage of an occlusion pass.
 StageText occlusion_stage(const render::OcclusionKey& k) {
     switch (k.pass) {
+    case render::OcclusionPass::shadow_phases:
+        return stage_text(StageText::Kind::compute, "qc_shadow_phases.comp", shadow_phases_shader(),
+                          "deferred shading: the shadow map in phases of the PCF step, for gathered samples");
     case render::OcclusionPass::outline_tiles:
         return stage_text(StageText::Kind::compute, "qc_outline_tiles.comp", outline_tiles_shader(),
                           "deferred shading: the 8 x 8 tiles where the background's outlines may differ from the background colour");
@@ -1046,12 +1107,13 @@ std::vector<StageText> program_stages(const render::DeferredKey& k) {
         v.text = detail::fullscreen_vertex;
     if (k.background && (k.shadows || k.environment)) throw std::invalid_argument("quadcast::gl::program_stages: the deferred background pass has no shading");
     if (k.tiles && !(k.background && k.silhouettes)) throw std::invalid_argument("quadcast::gl::program_stages: only the deferred background pass with outlines is drawn over tiles");
+    if (k.phases && !k.shadows) throw std::invalid_argument("quadcast::gl::program_stages: the shadow map's phases serve the soft shadows only");
     const std::string dname = std::string("qc_deferred") + (k.shadows ? "_shadows" : "") + (k.silhouettes ? "_silhouettes" : "") + (k.environment ? "_environment" : "") +
-                              (k.background ? "_background" : "") + ".frag";
+                              (k.background ? "_background" : "") + (k.phases ? "_phases" : "") + ".frag";
     return {k.tiles ? stage_text(StageText::Kind::vertex, "qc_outline_tiles.vert", v, "deferred shading: a point on each outline tile")
                     : stage_text(StageText::Kind::vertex, "qc_fullscreen.vert", v, "deferred shading: full-screen triangle"),
-            stage_text(StageText::Kind::fragment, dname, deferred_shader(k.silhouettes, k.shadows, k.environment, k.background),
-                       std::string(k.background ? "deferred shading: the background's pixels" : "deferred shading: Blinn-Phong from the geometry buffer") + (k.shadows ? ", soft shadows (64-sample PCF, 8-sample early-out)" : "") +
+            stage_text(StageText::Kind::fragment, dname, deferred_shader(k.silhouettes, k.shadows, k.environment, k.background, k.phases),
+                       std::string(k.background ? "deferred shading: the background's pixels" : "deferred shading: Blinn-Phong from the geometry buffer") + (k.shadows ? ", soft shadows (64-sample PCF, 8-sample early-out)" : "") + (k.phases ? ", gathered from the map's phases" : "") +
                            (k.silhouettes ? ", silhouette and crease outlines" : "") + (k.environment ? ", environment reflection" : ""))};
 }
 

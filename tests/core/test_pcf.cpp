@@ -1,10 +1,15 @@
 // Percentage-closer filtering streamed one sample at a time (the deferred stage's form:
 // `pcf_count_step`, `pcf_first8_from_count`, `pcf_fraction64`) against the whole-array filter
-// (`pcf_lit_fraction<64>`, `pcf_soft_shadow`), bit for bit, and against a direct count in double.
+// (`pcf_lit_fraction<64>`, `pcf_soft_shadow`), bit for bit, and against a direct count in double;
+// the shadow map in phases (`pcf_phase`, `phase_source_texel`) against `pcf_sample_texel`.
 #include <doctest/doctest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <limits>
 #include <random>
+#include <vector>
 
 #include "quadcast/shading.hpp"
 
@@ -36,6 +41,12 @@ TEST_CASE("streamed PCF equals the 64-sample filter and the early-out, bit for b
             float count56 = 0.0f;
             for (int k = 8; k < 64; ++k) count56 = pcf_count_step(count56, z, bias, s[k]);
             vis = pcf_fraction64(first.lit, count56);
+            // The gathered form: all 64 counted again, in the phase map's order (rows of the grid)
+            float count64 = 0.0f;
+            for (int g = 0; g < 64; ++g)
+                for (int k = 0; k < 64; ++k)
+                    if (pcf_grid_order[k] == g) count64 = pcf_count_step(count64, z, bias, s[k]);
+            CHECK(pcf_fraction_of64(count64) == vis);
             ++penumbra;
             CHECK(vis == pcf_lit_fraction<64>(z, bias, s));
         } else {
@@ -57,4 +68,68 @@ TEST_CASE("streamed PCF equals the 64-sample filter and the early-out, bit for b
     std::printf("[pcf] 200000 receivers: %ld decided by the first 8, %ld in a penumbra, %ld samples at exactly z - bias\n", decided, penumbra, ties);
     CHECK(decided > 50000);
     CHECK(penumbra > 50000);
+}
+
+TEST_CASE("the shadow map in phases holds every receiver's PCF samples as 8 x 8 consecutive texels") {
+    // `pcf_phase` gives the texel of the map in phases where a receiver's first sample lies, and
+    // `phase_source_texel` the map texel each texel of it holds: together they must give, for
+    // sample (gx, gy) at cell + (gx, gy), exactly the clamped texel `pcf_sample_texel` reads for
+    // grid cell 8 gy + gx, inside the map, across and far beyond its edges, and for NaN and
+    // infinite positions; and every such texel must lie inside the image. Checked against
+    // integer arithmetic too: the texel is clamp(floor(p) + g step - floor(7 step / 2)).
+    std::mt19937 rng(20261206);
+    long checked = 0;
+    for (const int map : {64, 100, 257, 1024, 2048, 8192})
+        for (const int step : {1, 2, 3, 4, 5, 7, 8, 13, 64}) {
+            const float last = float(map - 1), fstep = float(step), inv_step = 1.0f / fstep;
+            const int tile_i = (map + step - 1) / step + 2 * pcf_phase_margin;
+            const float tile = float(tile_i), inv_tile = 1.0f / tile;
+            const int size = tile_i * step;
+            std::uniform_real_distribution<float> pos(-1.5f * 8.0f * fstep - 20.0f, float(map) + 8.0f * fstep + 20.0f);
+            std::vector<float> xs;
+            for (int k = 0; k < 300; ++k) xs.push_back(pos(rng));
+            for (const float x : {0.0f, 0.5f, last, last + 0.99f, float(map), -0.01f, 1e9f, -1e9f, std::numeric_limits<float>::infinity(),
+                                  -std::numeric_limits<float>::infinity(), std::numeric_limits<float>::quiet_NaN()})
+                xs.push_back(x);
+            for (std::size_t k = 0; k < xs.size(); ++k) {
+                const Vec2<float> texel = vec2(xs[k], xs[(k * 7 + 3) % xs.size()]);
+                const Vec2<float> cell = pcf_phase(texel, fstep, inv_step, last, tile);
+                for (int g = 0; g < 64; ++g) {
+                    const int gx = g % 8, gy = g / 8;
+                    const Vec2<float> ref = pcf_sample_texel(texel, float(g), fstep, last);
+                    const float px = cell[0] + float(gx), py = cell[1] + float(gy);
+                    REQUIRE(px >= 0.0f);
+                    REQUIRE(py >= 0.0f);
+                    REQUIRE(px < float(size));
+                    REQUIRE(py < float(size));
+                    const float sx = phase_source_texel(px, fstep, tile, inv_tile, last), sy = phase_source_texel(py, fstep, tile, inv_tile, last);
+                    CAPTURE(map);
+                    CAPTURE(step);
+                    CAPTURE(texel[0]);
+                    CAPTURE(texel[1]);
+                    CAPTURE(g);
+                    REQUIRE(sx == ref[0]);
+                    REQUIRE(sy == ref[1]);
+                    // integer arithmetic (finite positions)
+                    if (std::isfinite(texel[0]) && std::abs(texel[0]) < 1e6f) {
+                        const long long ix = static_cast<long long>(std::floor(texel[0])) + gx * step - (7 * step) / 2;
+                        REQUIRE(sx == float(std::clamp<long long>(ix, 0, map - 1)));
+                    }
+                    ++checked;
+                }
+            }
+        }
+    std::printf("[pcf] shadow map in phases: %ld samples at the texels pcf_sample_texel reads\n", checked);
+}
+
+TEST_CASE("split_by_step is exact division with a non-negative remainder") {
+    std::mt19937 rng(7);
+    std::uniform_int_distribution<int> xs(-(1 << 21), 1 << 21), steps(1, 20000);
+    for (int k = 0; k < 200000; ++k) {
+        const int x = xs(rng), step = k % 3 == 0 ? 1 + k % 64 : steps(rng);
+        const Vec2<float> qr = split_by_step(float(x), float(step), 1.0f / float(step));
+        const int q = x >= 0 ? x / step : -((-x + step - 1) / step);
+        REQUIRE(qr[0] == float(q));
+        REQUIRE(qr[1] == float(x - q * step));
+    }
 }

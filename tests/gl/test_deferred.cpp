@@ -279,3 +279,57 @@ TEST_CASE("the background's outlines drawn over the listed tiles only: the pictu
                 }
     std::printf("[deferred] outline tiles: %ld background px outlined over all frames, each frame the same as the full-screen draw\n", outlined_total);
 }
+
+TEST_CASE("PCF samples gathered from the shadow map in phases: the picture of the samples read one by one") {
+    // QuadricRenderer::set_shadow_phases: with the shadow map kept from an earlier frame, the
+    // penumbra's 64 samples are read four at a time from the map in phases of the PCF step. The
+    // same count, so the same bytes and depths as reading them one by one, for PCF steps from 1 to
+    // 8, map sizes that are not multiples of the step, and footprints reaching past the map's
+    // edges (a 64-texel map with a step of 8: a footprint 56 texels wide).
+    gl::OsmesaContext ctx;
+    gl::QuadricRenderer r(ctx.api());
+    r.set_primitives(qc_render_test::mixed_scene(13, {50, 25, 8, true, false}));
+    Light light;
+    light.direction = vec3(-0.4f, -0.6f, -1.0f);
+    struct Case { int map, step; };
+    long shadowed_total = 0;
+    for (const Case c : {Case{512, 2}, Case{512, 1}, Case{300, 3}, Case{257, 5}, Case{64, 8}, Case{200, 7}})
+        for (bool ortho : {false, true}) {
+            RenderOptions o;
+            o.width = 240;
+            o.height = 180;
+            const Camera cam = test_camera(ortho);
+            r.draw(cam, light, o);
+            const Image lit = r.read();
+            o.shadows = true;
+            o.shadow_map_size = c.map;
+            o.pcf_step = c.step;
+            r.set_shadow_phases(true);
+            r.draw(cam, light, o);  // the map drawn (no phases yet), or kept from the other camera's frames
+            CHECK(r.used_shadow_phases() == r.reused_shadow_map());
+            const Image first = r.read();
+            r.draw(cam, light, o);  // the map kept: its phases made and read
+            CHECK(r.reused_shadow_map());
+            CHECK(r.used_shadow_phases());
+            const Image gathered = r.read();
+            r.set_shadow_phases(false);
+            r.draw(cam, light, o);
+            CHECK_FALSE(r.used_shadow_phases());
+            const Image single = r.read();
+            r.set_shadow_phases(true);
+            long differ = 0, depth_differ = 0, shadowed = 0;
+            for (std::size_t i = 0; i < single.depth.size(); ++i) {
+                differ += std::memcmp(&gathered.rgba[i * 4], &single.rgba[i * 4], 4) != 0 || std::memcmp(&first.rgba[i * 4], &single.rgba[i * 4], 4) != 0;
+                depth_differ += gathered.depth[i] != single.depth[i];
+                shadowed += std::memcmp(&lit.rgba[i * 4], &single.rgba[i * 4], 4) != 0;
+            }
+            shadowed_total += shadowed;
+            CAPTURE(c.map);
+            CAPTURE(c.step);
+            CAPTURE(ortho);
+            CHECK(differ == 0);
+            CHECK(depth_differ == 0);
+            CHECK(shadowed > 200);
+        }
+    std::printf("[deferred] shadow map in phases: %ld shadowed px over all frames, each the same as with the samples read one by one\n", shadowed_total);
+}

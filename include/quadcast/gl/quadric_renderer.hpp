@@ -84,6 +84,14 @@ public:
     /// a compute pass (a tile of which a pixel, or a neighbour of one, holds geometry) and drawn as
     /// one point each (the default); off, over the whole image. The same picture; a test switch.
     void set_outline_tiles(bool on);
+    /// Soft shadows (RenderOptions::shadows) with the shadow map kept from an earlier frame
+    /// (RenderOptions::shadow_map_reuse): the penumbra's 64 PCF samples read four at a time
+    /// (textureGather) from the map in phases of the PCF step (an R32F image of step x step tiles,
+    /// together a little larger than the map, made by a compute pass once per kept map), the
+    /// default; off, one by one. The same picture; a test switch.
+    void set_shadow_phases(bool on);
+    /// Whether the last `draw`'s deferred pass read the shadow map in phases (set_shadow_phases).
+    bool used_shadow_phases() const;
     /// A frame reusing the last one's shown set (RenderOptions::occlusion_reuse) whose view -- the
     /// camera's matrices, the viewport, back-face culling, the primitives and settings -- is the one
     /// that set was tested under draws the set alone (the default): that test kept every primitive

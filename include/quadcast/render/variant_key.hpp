@@ -134,6 +134,10 @@ struct DeferredKey {
     /// With `background` and `silhouettes`: drawn as one point per tile of the outline tiles'
     /// list (OcclusionPass::outline_tiles) instead of one full-screen triangle.
     bool tiles = false;
+    /// With `shadows`: the penumbra's samples read four at a time (textureGather) from the shadow
+    /// map's phases (OcclusionPass::shadow_phases, `pcf_phase`) where they all lie inside the map,
+    /// one by one elsewhere; the same count.
+    bool phases = false;
     friend constexpr bool operator==(const DeferredKey&, const DeferredKey&) = default;
 };
 
@@ -153,8 +157,10 @@ struct DeferredKey {
 /// the kept ones into the frame's element list (`element_compact`), around `scan`; its occlusion
 /// culling the copy of a later phase's kept elements into the survivors' list (`phase_compact`).
 /// The deferred pass lists the tiles of the image whose outlines may differ from the background
-/// (`outline_tiles`; the background's pixels elsewhere keep the colour they are cleared to).
-enum class OcclusionPass : std::uint8_t { occluders, pyramid, cull, scan, compact, bounds, depth_image, occluder_raster, element_cull_cubes, element_cull_tets, element_cull_cells, element_compact, phase_compact, outline_tiles };
+/// (`outline_tiles`; the background's pixels elsewhere keep the colour they are cleared to), and
+/// its soft shadows read the shadow map in phases of the PCF step (`shadow_phases`,
+/// DeferredKey::phases).
+enum class OcclusionPass : std::uint8_t { occluders, pyramid, cull, scan, compact, bounds, depth_image, occluder_raster, element_cull_cubes, element_cull_tets, element_cull_cells, element_compact, phase_compact, outline_tiles, shadow_phases };
 struct OcclusionKey {
     OcclusionPass pass = OcclusionPass::occluders;
     bool sphere = false;  ///< `bounds`: of the sphere-specialised vertex stage; `cull`: for the bounding sphere's rectangle (every bound but the ellipsoid and slab ones)
@@ -203,7 +209,7 @@ inline std::string key_name(const QuadricKey& k) {
 }
 inline std::string key_name(const DeferredKey& k) {
     return std::string("deferred") + (k.shadows ? ":shadows" : "") + (k.silhouettes ? ":silhouettes" : "") + (k.environment ? ":environment" : "") +
-           (k.background ? ":background" : "") + (k.tiles ? ":tiles" : "");
+           (k.background ? ":background" : "") + (k.tiles ? ":tiles" : "") + (k.phases ? ":phases" : "");
 }
 inline std::string key_name(const IsoKey& k) {
     return std::string("iso:") + volume_scheme_name(k.scheme) + (k.ortho ? ":ortho" : ":perspective") + (k.gbuffer ? ":gbuffer" : "") +
@@ -214,7 +220,7 @@ inline std::string key_name(const OcclusionKey& k) {
     const char* pass = k.pass == OcclusionPass::occluders ? "occluders" : k.pass == OcclusionPass::pyramid ? "pyramid" : k.pass == OcclusionPass::cull ? "cull" : k.pass == OcclusionPass::scan ? "scan" : k.pass == OcclusionPass::compact ? "compact" : k.pass == OcclusionPass::depth_image ? "depth_image" : k.pass == OcclusionPass::occluder_raster ? "occluder_raster"
                      : k.pass == OcclusionPass::element_cull_cubes ? "element_cull_cubes" : k.pass == OcclusionPass::element_cull_tets ? "element_cull_tets" : k.pass == OcclusionPass::element_cull_cells ? "element_cull_cells"
                      : k.pass == OcclusionPass::element_compact ? "element_compact" : k.pass == OcclusionPass::phase_compact ? "phase_compact"
-                     : k.pass == OcclusionPass::outline_tiles ? "outline_tiles" : "bounds";
+                     : k.pass == OcclusionPass::outline_tiles ? "outline_tiles" : k.pass == OcclusionPass::shadow_phases ? "shadow_phases" : "bounds";
     if (k.pass == OcclusionPass::cull) return std::string("occlusion:") + pass + (k.sphere ? ":sphere" : ":ellipsoid_slab");
     if (k.pass != OcclusionPass::bounds) return std::string("occlusion:") + pass;
     return std::string("occlusion:") + pass + (k.sphere ? ":sphere" : ":quadric") + (k.ortho ? ":ortho" : ":perspective");
@@ -241,7 +247,7 @@ inline std::vector<OcclusionKey> all_occlusion_keys() {
     std::vector<OcclusionKey> out{{OcclusionPass::occluders}, {OcclusionPass::pyramid}, {OcclusionPass::cull, false}, {OcclusionPass::cull, true}, {OcclusionPass::scan}, {OcclusionPass::compact},
                                   {OcclusionPass::depth_image}, {OcclusionPass::occluder_raster},
                                   {OcclusionPass::element_cull_cubes}, {OcclusionPass::element_cull_tets}, {OcclusionPass::element_cull_cells}, {OcclusionPass::element_compact},
-                                  {OcclusionPass::phase_compact}, {OcclusionPass::outline_tiles}};
+                                  {OcclusionPass::phase_compact}, {OcclusionPass::outline_tiles}, {OcclusionPass::shadow_phases}};
     for (bool sphere : {false, true})
         for (bool ortho : {false, true}) out.push_back({OcclusionPass::bounds, sphere, ortho});
     return out;
@@ -285,7 +291,10 @@ inline std::vector<DeferredKey> all_deferred_keys() {
     std::vector<DeferredKey> out;
     for (bool env : {false, true})
         for (bool shadows : {false, true})
-            for (bool sil : {false, true}) out.push_back({shadows, sil, env, false});
+            for (bool sil : {false, true}) {
+                out.push_back({shadows, sil, env, false});
+                if (shadows) out.push_back({shadows, sil, env, false, false, true});
+            }
     for (bool sil : {false, true}) out.push_back({false, sil, false, true});
     out.push_back({false, true, false, true, true});
     return out;
