@@ -3,7 +3,7 @@
 
     make bench-vtk                      # installs python3-vtk9, python3-numpy, xvfb; runs this
     tools/bench_vtk.py --quadcast build/tools/quadcast [--cases spheres:10000,sticks:50000,skull:qss]
-                       [--rounds 5] [--frames 5] [--width 1024 --height 768] [--out DIR] [--data DIR]
+                       [--rounds 5] [--frames 5] [--orbit DEG] [--width 1024 --height 768] [--out DIR] [--data DIR]
 
 The scenes are those of `quadcast bench spheres` and `bench sticks`: N random spheres in the unit
 cube of radius 0.3 N^(-1/3) (written by tools/sphere_scene.sh; VTK draws the numbers of that file),
@@ -27,6 +27,10 @@ one colour, the default headlight. quadcast draws the scheme's isosurface with i
 renderer (default options, forward shading); VTK extracts the same volume's isosurface with
 vtkFlyingEdges3D (normals on) once and draws the triangle mesh with vtkPolyDataMapper (its frames
 redraw the mesh; the extraction is in its time to the first image).
+
+With --orbit DEG the camera moves: each timed frame's camera orbits the target by DEG degrees more
+around the up vector (quadcast `render --orbit DEG`; VTK's vtkCamera::Azimuth(DEG) and
+ResetCameraClippingRange before each Render()), so no frame sees the view of the one before.
 
 Time to first image: the wall time of a whole process that reads the scene, draws one frame and
 writes a PNG (quadcast render without --frames; the VTK worker in --first mode, its Python and VTK
@@ -214,6 +218,9 @@ def vtk_worker(args):
     ms = []
     for _ in range(args.frames):
         t0 = time.perf_counter()
+        if args.orbit:
+            cam.Azimuth(args.orbit)
+            ren.ResetCameraClippingRange()
         win.Render()
         win.WaitForCompletion()
         ms.append((time.perf_counter() - t0) * 1e3)
@@ -260,6 +267,7 @@ def main():
     ap.add_argument("--cases", default="spheres:10000,spheres:100000,spheres:1000000,sticks:50000")
     ap.add_argument("--rounds", type=int, default=5)
     ap.add_argument("--frames", type=int, default=5)
+    ap.add_argument("--orbit", type=float, default=0.0, help="degrees the camera orbits the target per timed frame (0: it stays)")
     ap.add_argument("--width", type=int, default=1024)
     ap.add_argument("--height", type=int, default=768)
     ap.add_argument("--seed", type=int, default=1)
@@ -290,7 +298,8 @@ def main():
     me = [sys.executable, os.path.abspath(__file__)]
     size = ["--width", str(args.width), "--height", str(args.height)]
     print(f"quadcast against VTK {vtk.vtkVersion.GetVTKVersion()}: {args.width}x{args.height}, 30 degree perspective from (0.5, 0.5, 3); "
-          f"medians of {args.frames} frames per process, {args.rounds} rounds, order alternating; ratio > 1: quadcast faster")
+          f"medians of {args.frames} frames per process, {args.rounds} rounds, order alternating; ratio > 1: quadcast faster" +
+          (f"; the camera orbiting the target by {args.orbit:g} degrees a frame" if args.orbit else ""))
     print("%-16s %10s %10s %7s %13s | %9s %9s %7s | %8s %8s | %7s %7s" % (
         "case", "quadcast", "VTK", "ratio", "round ratios", "qc first", "VTK first", "ratio", "qc MB", "VTK MB", "qc cov", "VTK cov"))
     try:
@@ -310,11 +319,11 @@ def main():
                 order = [0, 1] if r % 2 == 0 else [1, 0]
                 for who in order:
                     if who == 0:
-                        s = run(qcmd + ["--frames", str(args.frames)], env)
+                        s = run(qcmd + ["--frames", str(args.frames)] + (["--orbit", str(args.orbit)] if args.orbit else []), env)
                         m = re.search(r"median frame ([0-9.]+) ms", s)
                         q_ms.append(float(m.group(1)))
                     else:
-                        s = run(vcmd + ["--frames", str(args.frames)], env)
+                        s = run(vcmd + ["--frames", str(args.frames), "--orbit", str(args.orbit)], env)
                         m = re.search(r"median ([0-9.]+) ms", s)
                         v_ms.append(float(m.group(1)))
             qf, qm, vf, vm = [], [], [], []

@@ -159,12 +159,7 @@ Frame build_frame(const scene::Scene& s, int width, int height) {
 
     // The camera in the frame: eye and target move with the scene, near, far and the
     // orthographic height scale with it, so the projection (and every window depth) is unchanged.
-    const scene::Camera& c = s.camera;
-    const double aspect = static_cast<double>(width) / static_cast<double>(height);
-    fr.camera = camera_from_matrices(look_at(t.point(c.eye), t.point(c.target), c.up),
-                                     c.projection == scene::Projection::orthographic
-                                         ? orthographic(t.length(c.height), aspect, t.length(c.near), t.length(c.far))
-                                         : perspective(c.fov_y_deg, aspect, t.length(c.near), t.length(c.far)));
+    fr.camera = frame_camera(s.camera, t, width, height);
     if (!s.lights.empty()) {
         const scene::Light& l = s.lights.front();
         // (a direction: normalised in double, so that a light 1e300 away stays finite in float)
@@ -214,6 +209,23 @@ Frame build_frame(const scene::Scene& s, int width, int height) {
     }
     fr.options.reflectivity = static_cast<float>(s.options.reflectivity);
     return fr;
+}
+
+Camera frame_camera(const scene::Camera& c, const FrameTransform& t, int width, int height) {
+    const double aspect = static_cast<double>(width) / static_cast<double>(height);
+    return camera_from_matrices(look_at(t.point(c.eye), t.point(c.target), c.up),
+                                c.projection == scene::Projection::orthographic ? orthographic(t.length(c.height), aspect, t.length(c.near), t.length(c.far))
+                                                                                : perspective(c.fov_y_deg, aspect, t.length(c.near), t.length(c.far)));
+}
+
+scene::Camera orbit_camera(const scene::Camera& c, double degrees) {
+    // Rodrigues' rotation of eye - target about the unit up vector
+    const double pi = 3.14159265358979323846;
+    const double a = degrees * pi / 180.0, ca = std::cos(a), sa = std::sin(a);
+    const V3 k = c.up / length(c.up), v = c.eye - c.target;
+    scene::Camera out = c;
+    out.eye = c.target + v * ca + cross(k, v) * sa + k * (dot(k, v) * (1.0 - ca));
+    return out;
 }
 
 }  // namespace quadcast::render

@@ -32,6 +32,7 @@ namespace {
 struct RenderArgs {
     std::string scene, output, depth;
     int width = 1024, height = 768, frames = 0, slim_bits = 32;
+    double orbit = 0.0;  ///< degrees the camera orbits per timed frame (--orbit)
     bool cpu = false, timing = false, allow_empty = false;
 };
 
@@ -39,6 +40,20 @@ struct RenderArgs {
 std::string fmt_overlap(double v) {
     char buf[32];
     std::snprintf(buf, sizeof buf, "%.2f", v);
+    return buf;
+}
+
+/// The camera of timed frame i (0-based): the frame's own, or with --orbit the scene's camera
+/// orbited by (i + 1) times the angle about its target (render::orbit_camera).
+render::Camera frame_camera_at(const RenderArgs& a, const scene::Scene& sc, const render::Frame& fr, int i) {
+    if (a.orbit == 0.0) return fr.camera;
+    return render::frame_camera(render::orbit_camera(sc.camera, a.orbit * (i + 1)), fr.transform, a.width, a.height);
+}
+
+std::string orbit_note(const RenderArgs& a) {
+    if (a.orbit == 0.0) return {};
+    char buf[96];
+    std::snprintf(buf, sizeof buf, ", the camera orbiting its target by %g degrees a frame", a.orbit);
     return buf;
 }
 
@@ -246,14 +261,18 @@ int run_render(const RenderArgs& a) {
         timer.phase("draw");
         if (a.frames > 0) {
             std::vector<double> ms;
+            const render::Camera still = fr.camera;
             for (int i = 0; i < a.frames; ++i) {
+                fr.camera = frame_camera_at(a, sc, fr, i);
                 const auto t0 = std::chrono::steady_clock::now();
                 img = render_scene_cpu(fr, patches, volumes, nullptr);
                 ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
             }
-            std::printf("%s: %zu primitives, %zu volume(s) (%zu active cubes), %dx%d, median frame %.2f ms over %d frames (CPU reference), %llu casts, %llu culled\n",
+            fr.camera = still;
+            if (a.orbit != 0.0) img = render_scene_cpu(fr, patches, volumes, nullptr);  // (the picture of the scene's camera)
+            std::printf("%s: %zu primitives, %zu volume(s) (%zu active cubes), %dx%d, median frame %.2f ms over %d frames%s (CPU reference), %llu casts, %llu culled\n",
                         a.scene.c_str(), fr.primitives.size(), volumes.size(), active_cubes(volumes), a.width, a.height, median(ms), a.frames,
-                        static_cast<unsigned long long>(st.fragments), static_cast<unsigned long long>(st.culled));
+                        orbit_note(a).c_str(), static_cast<unsigned long long>(st.fragments), static_cast<unsigned long long>(st.culled));
             if (!fr.slim_balls.empty()) std::printf("%s: %zu SLIM balls (CPU reference, per-ray blending)\n", a.scene.c_str(), fr.slim_balls.size());
         }
         const int rc = write_outputs(a, img);
@@ -288,12 +307,15 @@ int run_render(const RenderArgs& a) {
         if (a.frames > 0) {
             std::vector<double> ms;
             for (int i = 0; i < a.frames; ++i) {
+                const render::Camera cam = frame_camera_at(a, sc, fr, i);
                 const auto t0 = std::chrono::steady_clock::now();
-                r.draw(fr.camera, fr.light, fr.options);
+                r.draw(cam, fr.light, fr.options);
                 ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
             }
-            std::printf("%s: %zu primitives, %dx%d, median frame %.2f ms over %d frames (%s)\n", a.scene.c_str(), primitive_count, a.width,
-                        a.height, median(ms), a.frames, ctx->info().renderer.c_str());
+            // (with --orbit, what follows is of the scene's camera again)
+            if (a.orbit != 0.0) r.draw(fr.camera, fr.light, fr.options);
+            std::printf("%s: %zu primitives, %dx%d, median frame %.2f ms over %d frames%s (%s)\n", a.scene.c_str(), primitive_count, a.width,
+                        a.height, median(ms), a.frames, orbit_note(a).c_str(), ctx->info().renderer.c_str());
             if (fr.options.shadows && fr.options.shadow_map_reuse) {
                 // The shadow map kept from earlier frames against drawn in every frame, interleaved
                 // (the kept frames last, so that what is printed below is theirs).
@@ -421,7 +443,10 @@ void add_render(CLI::App& app) {
     cmd->add_option("--depth", a->depth, "also write window depth as PFM (1.0 = background)");
     cmd->add_flag("--timing", a->timing, "print each phase's time and the resident memory after it to stderr (load, frame, context, upload, draw, read, write)");
     cmd->add_option("--frames", a->frames, "time this many frames after a warm-up; print the median")->check(CLI::Range(0, 100000));
+    cmd->add_option("--orbit", a->orbit, "with --frames: each timed frame's camera orbits the target by this many degrees more, around the camera's up vector (a moving camera); the picture is the scene camera's")
+        ->check(CLI::Range(-360.0, 360.0));
     cmd->callback([a] {
+        if (a->orbit != 0.0 && a->frames == 0) throw CLI::ValidationError("--orbit", "needs --frames N with N > 0 (it moves the camera between timed frames)");
         const int rc = run_render(*a);
         if (rc) throw CLI::RuntimeError(rc);
     });

@@ -54,4 +54,13 @@ struct Frame {
 /// into `slim_balls`, their quadrics normalised like general quadrics.
 Frame build_frame(const scene::Scene& s, int width, int height);
 
+/// The frame's camera (`Frame::camera`) of scene camera `c` for width x height in the frame of
+/// `t`: eye and target through the transform, near, far and the orthographic height scaled by it.
+Camera frame_camera(const scene::Camera& c, const FrameTransform& t, int width, int height);
+
+/// Scene camera `c` orbited by `degrees` about its target, around its up vector (right-handed):
+/// the eye moves on the circle about the up axis through the target; target, up, distance and
+/// projection stay.
+scene::Camera orbit_camera(const scene::Camera& c, double degrees);
+
 }  // namespace quadcast::render
