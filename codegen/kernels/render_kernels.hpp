@@ -521,7 +521,7 @@ struct PhaseSourceTexelKernel {
     static void generate(std::mt19937& rng, std::span<float> in) {
         std::size_t p = 0;
         const float step = std::floor(uniform(rng, 1.0f, 64.999f)), map = std::floor(uniform(rng, 64.0f, 8192.0f));
-        const float tile = std::ceil(map / step) + 2.0f * pcf_phase_margin;
+        const float tile = float(pcf_phase_tile(int(map), int(step)));
         put(in, p, std::floor(uniform(rng, 0.0f, step * tile - 0.001f)));
         put(in, p, step);
         put(in, p, tile);
@@ -549,7 +549,7 @@ struct PcfPhaseKernel {
         put(in, p, step);
         put(in, p, 1.0f / step);
         put(in, p, 1023.0f);
-        put(in, p, std::ceil(1024.0f / step) + 2.0f * pcf_phase_margin);
+        put(in, p, float(pcf_phase_tile(1024, int(step))));
     }
 };
 

@@ -170,6 +170,10 @@ Vec2<T> split_by_step(const T& x, const T& step, const T& inv_step) {
 /// Margin, in texels, on each side of a tile of the shadow map in phases (`phase_source_texel`).
 inline constexpr int pcf_phase_margin = 8;
 
+/// Texels per side of a tile of the shadow map in phases (`phase_source_texel`) for a map of
+/// `map_size` texels per side and a PCF step of `step` texels: ceil(map_size / step) + 2 margins.
+constexpr int pcf_phase_tile(int map_size, int step) { return (map_size + step - 1) / step + 2 * pcf_phase_margin; }
+
 /// The shadow map in phases of the PCF step, so that a receiver's 64 PCF samples, `step` texels
 /// apart in the map, are 8 x 8 consecutive texels there and a renderer can read them four at a
 /// time (textureGather; `pcf_phase`, `pcf_gather_coord`). Per axis the image is `step` tiles of

@@ -1279,12 +1279,12 @@ private:
 
     /// The shadow map in phases of the PCF step for the deferred pass's gathered samples
     /// (DeferredKey::phases, OcclusionPass::shadow_phases, `phase_source_texel`): an R32F image of
-    /// step x step tiles of ceil(size / step) + 2 pcf_phase_margin texels per side, made once per
+    /// step x step tiles of `pcf_phase_tile` texels per side, made once per
     /// map drawn and step (kept with a kept map).
     void make_shadow_phases(int step) {
         const Api& gl = *api_;
-        const int tile = (shadow_size_ + step - 1) / step + 2 * pcf_phase_margin;
-        if (ptex_ == 0 || phase_tile_ != tile || phase_step_alloc_ != step) {
+        const int tile = pcf_phase_tile(shadow_size_, step);
+        if (ptex_ == 0 || phase_tile_ != tile || phases_step_ != step) {
             if (ptex_ != 0) gl.DeleteTextures(1, &ptex_);
             gl.GenTextures(1, &ptex_);
             gl.BindTexture(GL_TEXTURE_2D, ptex_);
@@ -1295,7 +1295,6 @@ private:
             gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
             gl.BindTexture(GL_TEXTURE_2D, 0);
             phase_tile_ = tile;
-            phase_step_alloc_ = step;
         }
         const Program& prog = programs_.get(render::OcclusionKey{render::OcclusionPass::shadow_phases});
         gl.UseProgram(prog.id());
@@ -1443,8 +1442,7 @@ private:
     bool shadow_phases_ = true;     ///< set_shadow_phases
     GLuint ptex_ = 0;               ///< the shadow map in phases (make_shadow_phases)
     int phase_tile_ = 0;            ///< texels per side of a tile of ptex_
-    int phase_step_alloc_ = 0;      ///< ptex_'s tiles per side
-    int phases_step_ = 0;           ///< the PCF step of ptex_'s phases
+    int phases_step_ = 0;           ///< the PCF step of ptex_'s phases (its tiles per side)
     std::vector<std::uint64_t> phases_key_;  ///< `shadow_key` of the map ptex_ holds in phases
     bool phases_used_ = false;      ///< the last deferred pass read ptex_
     GLuint sfbo_ = 0, stex_ = 0;             ///< shadow map

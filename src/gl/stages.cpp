@@ -372,7 +372,7 @@ Stage deferred_shader(bool silhouettes, bool shadows, bool env, bool background,
         add_kernel(s, fns, "shadow_coord");
         add_kernel(s, fns, "pcf_first8_from_count");
         add_kernel(s, fns, "pcf_count_step");
-        add_kernel(s, fns, "pcf_fraction64");
+        if (!phases) add_kernel(s, fns, "pcf_fraction64");  // (the one-by-one penumbra's)
         add_kernel(s, fns, "pcf_sample_texel");
         if (phases) {
             add_kernel(s, fns, "pcf_phase");

@@ -82,7 +82,7 @@ TEST_CASE("the shadow map in phases holds every receiver's PCF samples as 8 x 8 
     for (const int map : {64, 100, 257, 1024, 2048, 8192})
         for (const int step : {1, 2, 3, 4, 5, 7, 8, 13, 64}) {
             const float last = float(map - 1), fstep = float(step), inv_step = 1.0f / fstep;
-            const int tile_i = (map + step - 1) / step + 2 * pcf_phase_margin;
+            const int tile_i = pcf_phase_tile(map, step);
             const float tile = float(tile_i), inv_tile = 1.0f / tile;
             const int size = tile_i * step;
             std::uniform_real_distribution<float> pos(-1.5f * 8.0f * fstep - 20.0f, float(map) + 8.0f * fstep + 20.0f);
