@@ -127,6 +127,8 @@ public:
         api.GenBuffers(1, &commands2_);
         api.GenBuffers(1, &tiles_);
         api.GenBuffers(1, &tile_command_);
+        api.GenBuffers(1, &owner_bits_);
+        api.GenBuffers(1, &owner_groups_);
         GLfloat sizes[2] = {1.0f, 1.0f};
         api.GetFloatv(GL_POINT_SIZE_RANGE, sizes);
         max_point_size_ = sizes[1];
@@ -152,8 +154,11 @@ public:
         api_->DeleteBuffers(1, &keep2_);
         api_->DeleteBuffers(1, &groups2_);
         api_->DeleteBuffers(1, &commands2_);
+        api_->DeleteBuffers(1, &owner_bits_);
+        api_->DeleteBuffers(1, &owner_groups_);
         for (ShownSet& s : shown_)
-            if (s.list) api_->DeleteBuffers(1, &s.list);
+            for (GLuint b : {s.list, s.owners.buffer, s.owners.list})
+                if (b) api_->DeleteBuffers(1, &b);
         api_->DeleteVertexArrays(1, &vao_);
         if (query_) api_->DeleteQueries(1, &query_);
         if (fs_query_) api_->DeleteQueries(1, &fs_query_);
@@ -203,6 +208,11 @@ public:
     }
     void set_outline_tiles(bool on) { outline_tiles_ = on; }
     void set_shadow_phases(bool on) { shadow_phases_ = on; }
+    void set_shown_from_picture(bool on) {
+        shown_from_picture_ = on;
+        ++revision_;
+    }
+    bool shown_set_from_picture() const { return picture_set_drawn_; }
     bool used_shadow_phases() const { return phases_used_; }
 
     /// Whether the deferred pass may read the shadow map in phases (set_shadow_phases); it does where
@@ -320,10 +330,11 @@ public:
             upload(s.buffer, std::vector<std::uint32_t>(std::max<std::size_t>(1, records.size())));
             if (!s.list) api_->GenBuffers(1, &s.list);
             upload(s.list, std::vector<std::uint32_t>(std::max<std::size_t>(1, records.size())));
-            s.valid = s.all = s.listed = false;
+            s.owners.capacity = 0;  // (allocated by the first make_owner_set)
+            s.valid = s.all = s.listed = s.owners.valid = s.of_picture = false;
             s.target = 0;
         }
-        reused_ = view_unchanged_ = false;
+        reused_ = view_unchanged_ = picture_set_drawn_ = false;
         cull_pass_ran_ = false;
         phase_count_ = 1;
         expected_overlap_ = 0.0;
@@ -597,6 +608,15 @@ public:
         bool listed = false;  ///< `list` and `counts` hold the set (compacted by the frame that tested it)
         std::vector<std::uint64_t> view;  ///< with `listed`: `view_key` of the frame that tested it
         bool against_drawn = false;  ///< that test ran against what the set before it drew (not only occluder disks)
+        /// The records that frame's picture shows (set_shown_from_picture; `valid`: made by it),
+        /// flags and list as above: the set a frame whose view is unchanged draws instead.
+        struct Owners {
+            GLuint buffer = 0, list = 0;
+            std::array<std::uint32_t, render::variant_count> counts{};
+            bool valid = false;
+            std::size_t capacity = 0;  ///< records `buffer` and `list` hold
+        } owners;
+        bool of_picture = false;  ///< `list` holds the records of the picture (swapped in from `owners`)
     };
     /// The phase of a cull pass: its index of `count`, and the window [lo, hi) of nearest view
     /// distances of the planes primitives it keeps (the first phase from -infinity, the last to
@@ -687,7 +707,7 @@ public:
             shown = &shown_set_of(shown_, next_shown_, depth_target);
         } else {
             for (ShownSet& s : shown_)
-                if (s.target == depth_target) s.valid = s.listed = false;
+                if (s.target == depth_target) s.valid = s.listed = s.owners.valid = s.of_picture = false;
         }
         // (reuse needs no occluders, so it pays from a lower overlap than the cull pass: from
         // `reuse_overlap_share` of occlusion_min_overlap)
@@ -704,6 +724,31 @@ public:
         // the set. The set stays.
         const std::vector<std::uint64_t> view = shown ? view_key(cam, viewport, opt) : std::vector<std::uint64_t>{};
         view_unchanged_ = reused_ && shown->listed && shown->against_drawn && !compute_bounds_ && keep_unchanged_sets_ && shown->view == view;
+        // The records the picture shows (set_shown_from_picture), made where the camera has not
+        // moved since the last frame (the set's view is this one: a reusing frame that tests the
+        // set again, or one that draws the test's set alone), in the renderer's own target with
+        // the depth test: the primitives' pass writes each pixel's record into the ids target,
+        // and compute passes list the records left in it (make_owner_set). The next frame with
+        // the view unchanged draws those alone instead, a subset of the test's set with the same
+        // picture (the whole picture: at each pixel the record left was the nearest of all). A
+        // moving camera pays nothing for them: its views never repeat.
+        if (view_unchanged_ && shown->owners.valid) {
+            std::swap(shown->buffer, shown->owners.buffer);
+            std::swap(shown->list, shown->owners.list);
+            std::swap(shown->counts, shown->owners.counts);
+            shown->owners.valid = false;
+            shown->owners.capacity = count_;  // (the set's buffers, sized to the records)
+            shown->of_picture = true;
+        }
+        picture_set_drawn_ = view_unchanged_ && shown->of_picture;
+        const bool still = view_unchanged_ ? !shown->of_picture : reused_ && shown->listed && shown->view == view && !compute_bounds_ && keep_unchanged_sets_;
+        ids_frame_ = still && shown_from_picture_ && depth_target == tex_[1] && depth_test_ && stage_ != render::FragmentStage::passthrough;
+        if (ids_frame_) {
+            const GLenum bufs[4] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2, GL_COLOR_ATTACHMENT3};
+            gl.DrawBuffers(deferred ? 4 : 2, bufs);
+            const GLuint none[4] = {0, 0, 0, 0};
+            gl.ClearBufferuiv(GL_COLOR, deferred ? 3 : 1, none);
+        }
         const int phase_count = phased ? phases : reused_ ? (view_unchanged_ ? 1 : 2) : 1;
         phase_count_ = phase_count;
         for (int k = 0; k < phase_count; ++k) {
@@ -735,6 +780,7 @@ public:
         } else if (shown) {
             // The list the test's results were compacted into: its counts, for the next frame
             shown->listed = listed_now;
+            shown->owners.valid = shown->of_picture = false;
             if (listed_now) {
                 shown->view = view;
                 shown->against_drawn = reused_;  // (a frame recording its first set tested against occluder disks: tested once more, it keeps fewer)
@@ -744,6 +790,13 @@ public:
                 gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
                 for (int v = 0; v < render::variant_count; ++v) shown->counts[static_cast<std::size_t>(v)] = ranges_[v].second ? counts[5 * v] : 0u;
             }
+        }
+        if (ids_frame_) {  // (after the test's counts were read from commands2_, which make_owner_set reuses)
+            const GLenum bufs[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
+            gl.DrawBuffers(deferred ? 3 : 1, bufs);
+            ids_frame_ = false;
+            timed_cull([&] { make_owner_set(shown->owners, viewport[2], viewport[3]); });
+            shown->owners.valid = true;
         }
         if (shown && !cull_pass && !(shown->valid && shown->all)) {  // (no cull pass: every record is drawn, so all count as shown)
             gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, shown->buffer);
@@ -890,7 +943,7 @@ public:
             // The program: forward (with the environment reflection) or into the geometry buffer, for
             // the fragment stage set by `set_fragment_stage` (only the incremental one has the early
             // discard: key.early), counting in `draw`'s counted pass (compiled on first use).
-            const render::QuadricKey key = render::quadric_key(variant, opt.culling, cam.orthographic, deferred, opt.environment != nullptr, stage_, points, counting_, early);
+            const render::QuadricKey key = render::quadric_key(variant, opt.culling, cam.orthographic, deferred, opt.environment != nullptr, stage_, points, counting_, early, ids_frame_);
             const Program& prog = programs_.get(key);
             gl.UseProgram(prog.id());
             set_uniforms(prog, cam, light, opt, viewport[2], viewport[3]);
@@ -950,6 +1003,80 @@ private:
     /// GL's guaranteed limit per dimension; the shaders number them by `qc_linear_group`, and a
     /// cull pass workgroup past the records returns).
     void dispatch_rows(const Api& gl, std::uint32_t n) const { gl::dispatch_rows(gl, n, row_limit_); }
+
+    /// The shown set from the picture in the ids target (OcclusionPass::owners, owner_count, scan,
+    /// owner_compact): its flags, its list and per variant its count (read back into `set`).
+    void make_owner_set(ShownSet::Owners& set, int width, int height) {
+        const Api& gl = *api_;
+        if (set.capacity < count_) {
+            for (GLuint* b : {&set.buffer, &set.list}) {
+                if (!*b) gl.GenBuffers(1, b);
+                upload(*b, std::vector<std::uint32_t>(count_));
+            }
+            set.capacity = count_;
+        }
+        const auto words = static_cast<std::uint32_t>((count_ + 31) / 32);
+        if (words > owner_words_) {
+            upload(owner_bits_, std::vector<std::uint32_t>(words));
+            upload(owner_groups_, std::vector<std::uint32_t>(words + 1));
+            owner_words_ = words;
+        }
+        const std::uint32_t zero = 0u;
+        for (GLuint b : {owner_bits_, set.buffer}) {
+            gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, b);
+            gl.ClearBufferData(GL_SHADER_STORAGE_BUFFER, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+        }
+        std::uint32_t cmds[5 * render::variant_count] = {};
+        gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, commands2_);
+        gl.BufferSubData(GL_SHADER_STORAGE_BUFFER, 0, sizeof cmds, cmds);
+        gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
+        gl.MemoryBarrier(GL_ALL_BARRIER_BITS);  // (the primitives' pass wrote the ids target)
+        const Program& owners = programs_.get(render::OcclusionKey{render::OcclusionPass::owners});
+        gl.UseProgram(owners.id());
+        gl.BindTextureUnit(0, idtex_);
+        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 10, set.buffer);
+        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 13, owner_bits_);
+        gl.Uniform2ui(owners.uniform_location("qc_size"), static_cast<GLuint>(width), static_cast<GLuint>(height));
+        gl.Uniform1ui(owners.uniform_location("qc_records"), static_cast<GLuint>(count_));
+        gl.DispatchCompute(static_cast<GLuint>((width + 7) / 8), static_cast<GLuint>((height + 7) / 8), 1);
+        gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        gl.BindTextureUnit(0, 0);
+        const Program& count = programs_.get(render::OcclusionKey{render::OcclusionPass::owner_count});
+        const Program& scan = programs_.get(render::OcclusionKey{render::OcclusionPass::scan});
+        const Program& compact = programs_.get(render::OcclusionKey{render::OcclusionPass::owner_compact});
+        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, set.list);
+        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, commands2_);
+        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, owner_groups_);
+        for (int v = 0; v < render::variant_count; ++v) {
+            const auto [first, n] = ranges_[v];
+            if (n == 0) continue;
+            const std::uint32_t variant_words = (first + n - 1) / 32 - first / 32 + 1;
+            for (const Program* p : {&count, &compact}) {
+                gl.UseProgram(p->id());
+                gl.Uniform1ui(p->uniform_location("qc_first"), first);
+                gl.Uniform1ui(p->uniform_location("qc_count"), n);
+            }
+            gl.UseProgram(count.id());
+            dispatch_rows(gl, (variant_words + 63) / 64);
+            gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+            gl.UseProgram(scan.id());
+            gl.Uniform1ui(scan.uniform_location("qc_group_count"), variant_words);
+            gl.Uniform1ui(scan.uniform_location("qc_per_kept"), 1u);
+            gl.Uniform1ui(scan.uniform_location("qc_command_at"), static_cast<GLuint>(5 * v));
+            gl.DispatchCompute(1, 1, 1);
+            gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+            gl.UseProgram(compact.id());
+            dispatch_rows(gl, (variant_words + 63) / 64);
+            gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        }
+        for (GLuint b : {4u, 5u, 7u, 10u, 13u}) gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, b, 0);
+        gl.MemoryBarrier(GL_ALL_BARRIER_BITS);
+        std::uint32_t counts[5 * render::variant_count] = {};
+        gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, commands2_);
+        gl.GetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, sizeof counts, counts);
+        gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
+        for (int v = 0; v < render::variant_count; ++v) set.counts[static_cast<std::size_t>(v)] = ranges_[v].second ? counts[5 * v] : 0u;
+    }
 
     void run_cull_pass(const render::Camera& cam, const render::RenderOptions& opt, int width, int height, const Phase& ph) {
         const Api& gl = *api_;
@@ -1340,12 +1467,7 @@ private:
         release_shadow_map();
         shadow_size_ = size;
         shadow_valid_ = false;
-        gl.GenTextures(1, &stex_);
-        gl.BindTexture(GL_TEXTURE_2D, stex_);
-        gl.TexStorage2D(GL_TEXTURE_2D, 1, GL_DEPTH_COMPONENT32F, size, size);
-        gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-        gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-        gl.BindTexture(GL_TEXTURE_2D, 0);
+        stex_ = nearest_texture(gl, GL_DEPTH_COMPONENT32F, size, size);
         gl.GenFramebuffers(1, &sfbo_);
         gl.BindFramebuffer(GL_FRAMEBUFFER, sfbo_);
         gl.FramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, stex_, 0);
@@ -1366,21 +1488,27 @@ private:
         sfbo_ = 0;
     }
 
+    /// A width x height texture of `format`, one level, nearest filtering.
+    static GLuint nearest_texture(const Api& gl, GLenum format, int width, int height) {
+        GLuint t = 0;
+        gl.GenTextures(1, &t);
+        gl.BindTexture(GL_TEXTURE_2D, t);
+        gl.TexStorage2D(GL_TEXTURE_2D, 1, format, width, height);
+        gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        gl.BindTexture(GL_TEXTURE_2D, 0);
+        return t;
+    }
+
     /// The geometry buffer (three RGBA32F targets sharing the depth target), made on first use.
     void ensure_gbuffer() {
         if (gfbo_ != 0) return;
         const Api& gl = *api_;
-        gl.GenTextures(3, gtex_);
-        for (GLuint t : gtex_) {
-            gl.BindTexture(GL_TEXTURE_2D, t);
-            gl.TexStorage2D(GL_TEXTURE_2D, 1, GL_RGBA32F, width_, height_);
-            gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-            gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-        }
-        gl.BindTexture(GL_TEXTURE_2D, 0);
+        for (GLuint& t : gtex_) t = nearest_texture(gl, GL_RGBA32F, width_, height_);
         gl.GenFramebuffers(1, &gfbo_);
         gl.BindFramebuffer(GL_FRAMEBUFFER, gfbo_);
         for (int i = 0; i < 3; ++i) gl.FramebufferTexture2D(GL_FRAMEBUFFER, static_cast<GLenum>(GL_COLOR_ATTACHMENT0 + i), GL_TEXTURE_2D, gtex_[i], 0);
+        gl.FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT3, GL_TEXTURE_2D, idtex_, 0);
         gl.FramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, tex_[1], 0);
         const GLenum bufs[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
         gl.DrawBuffers(3, bufs);
@@ -1419,6 +1547,16 @@ private:
         width_ = w;
         height_ = h;
         fbo_ = make_framebuffer(gl, w, h, tex_, "quadcast::gl::QuadricRenderer");
+        // The ids target (QuadricKey::ids), colour attachment 1 here and 3 of the geometry buffer;
+        // drawn into only by the frames that make the shown set from the picture.
+        idtex_ = nearest_texture(gl, GL_R32UI, w, h);
+        gl.BindFramebuffer(GL_FRAMEBUFFER, fbo_);
+        gl.FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_TEXTURE_2D, idtex_, 0);
+        const GLenum first[1] = {GL_COLOR_ATTACHMENT0};
+        gl.DrawBuffers(1, first);
+        const GLenum status = gl.CheckFramebufferStatus(GL_FRAMEBUFFER);
+        gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
+        if (status != GL_FRAMEBUFFER_COMPLETE) throw std::runtime_error("quadcast::gl::QuadricRenderer: incomplete framebuffer with the ids target");
     }
 
     void release_fbo() {
@@ -1430,6 +1568,8 @@ private:
         if (fbo_ == 0) return;
         api_->DeleteFramebuffers(1, &fbo_);
         api_->DeleteTextures(2, tex_);
+        api_->DeleteTextures(1, &idtex_);
+        idtex_ = 0;
         fbo_ = 0;
     }
 
@@ -1440,6 +1580,12 @@ private:
     std::uint32_t tile_capacity_ = 0;
     bool outline_tiles_ = true;
     bool shadow_phases_ = true;     ///< set_shadow_phases
+    bool shown_from_picture_ = true;  ///< set_shown_from_picture
+    bool ids_frame_ = false;        ///< this frame's primitives write the ids target (draw_primitives)
+    bool picture_set_drawn_ = false;  ///< the last `draw_primitives` drew a picture's records alone (shown_set_from_picture)
+    GLuint idtex_ = 0;              ///< the ids target (R32UI: per pixel the record it shows + 1)
+    GLuint owner_bits_ = 0, owner_groups_ = 0;  ///< the shown records' bits, their words' counts (make_owner_set)
+    std::uint32_t owner_words_ = 0;  ///< words allocated in owner_bits_
     GLuint ptex_ = 0;               ///< the shadow map in phases (make_shadow_phases)
     int phase_tile_ = 0;            ///< texels per side of a tile of ptex_
     int phases_step_ = 0;           ///< the PCF step of ptex_'s phases (its tiles per side)
@@ -1536,6 +1682,8 @@ void QuadricRenderer::set_early_discard(bool on) { impl_->set_early_discard(on);
 void QuadricRenderer::set_compute_bounds(bool on) { impl_->set_compute_bounds(on); }
 void QuadricRenderer::set_outline_tiles(bool on) { impl_->set_outline_tiles(on); }
 void QuadricRenderer::set_shadow_phases(bool on) { impl_->set_shadow_phases(on); }
+void QuadricRenderer::set_shown_from_picture(bool on) { impl_->set_shown_from_picture(on); }
+bool QuadricRenderer::shown_set_from_picture() const { return impl_->shown_set_from_picture(); }
 bool QuadricRenderer::used_shadow_phases() const { return impl_->used_shadow_phases(); }
 void QuadricRenderer::set_skip_unchanged_view_test(bool on) { impl_->set_skip_unchanged_view_test(on); }
 void QuadricRenderer::set_raster_occluders(bool on) { impl_->set_raster_occluders(on); }

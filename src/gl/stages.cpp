@@ -156,6 +156,7 @@ Stage vertex_shader(bool ortho, bool planes) {
     m << bound_uniforms << "uniform bool qc_slab_quad;        // slab bounds: the quadrilateral along the axis, else the rectangle\n"
          "uniform vec3 qc_eye;\nuniform bool qc_cull;\nuniform bool qc_caps;   // the variant closes a slab with caps\n\n"
          "flat out float qc_nearest;  // nearest view distance of the bounding sphere (the fragment stage's occlusion test)\n"
+         "flat out uint qc_prim_id;   // the record's index (the ids target's, QuadricKey::ids)\n"
       << detail::record_varyings_glsl("out") << (planes ? "flat out vec4 qc_clip_planes[4];  // the planes variant's clip planes\n\n" : "\n");
     m << fns.str();
     m << visible_glsl << fetched_bounds_glsl;
@@ -167,6 +168,7 @@ Stage vertex_shader(bool ortho, bool planes) {
          "    uint prim = qc_indirect ? qc_visible[slot] : qc_first + slot;\n"
          "    int k = gl_VertexID % 4;\n"
          "    qc_Primitive p = qc_prims[prim];\n"
+         "    qc_prim_id = prim;\n"
       << detail::record_varyings_out()
       << (planes ? "    for (int i = 0; i < 4; ++i) qc_clip_planes[i] = qc_planes[prim - qc_first].p[i];\n" : "")
       << "    if (qc_fetch) {\n"
@@ -201,6 +203,7 @@ Stage sphere_vertex_shader(bool ortho, bool points) {
     // (both vertex stages: the record of `prim` and the varyings the fragment stage reads instead of it)
     const char* sphere_varyings =
         "    qc_Primitive p = qc_prims[prim];\n"
+        "    qc_prim_id = prim;\n"
         "    qc_radius = qc_record_radius(p);\n"
         "    qc_center = qc_record_center(p);\n"
         "    qc_prim_color = qc_record_color(p);\n"
@@ -209,6 +212,7 @@ Stage sphere_vertex_shader(bool ortho, bool points) {
     m << record_glsl;
     m << bound_uniforms << "\n"
          "flat out float qc_nearest;  // nearest view distance of the sphere (the fragment stage's occlusion test)\n"
+         "flat out uint qc_prim_id;   // the record's index (the ids target's, QuadricKey::ids)\n"
          "flat out float qc_radius;\nflat out vec3 qc_center;\nflat out vec3 qc_prim_color;\nflat out vec2 qc_prim_material;  // specular, shininess\n\n";
     m << fns.str();
     m << visible_glsl << fetched_bounds_glsl;
@@ -310,6 +314,9 @@ Stage fragment_shader(const render::QuadricKey& k) {
              "layout(location = 2) out vec4 qc_gcolor;   // colour, specular\n\n";
     else
         m << "layout(location = 0) out vec4 qc_color;\n\n";
+    if (k.ids)
+        m << "flat in uint qc_prim_id;\n"
+             "layout(location = " << (gbuffer ? 3 : 1) << ") out uint qc_id;  // the record's index + 1 (0: no record)\n\n";
     m << fns.str();
     m << "void main()\n{\n";
     if (k.count) m << "    atomicAdd(qc_fragment_count[0], 1u);\n";
@@ -336,6 +343,7 @@ Stage fragment_shader(const render::QuadricKey& k) {
     m << "    if (!hit) discard;\n";
     if (k.count) m << "    atomicAdd(qc_fragment_count[2], 1u);\n";
     m << "    gl_FragDepth = depth;\n";
+    if (k.ids) m << "    qc_id = qc_prim_id + 1u;\n";
     if (gbuffer)
         m << "    qc_gnormal = vec4(n, depth);\n"
              "    qc_gview = vec4(" << eye_vec << ", " << material << ".y);\n"
@@ -845,6 +853,83 @@ const std::string compact_shader = std::string(
     "    if (k != 0u) qc_visible[qc_first + qc_groups[group] + k - 1u] = qc_first + i;\n"
     "}\n";
 
+/// The shown set from the picture (QuadricRenderer, RenderOptions::occlusion_reuse): the records
+/// the primitives' pass left in the ids target (QuadricKey::ids: each pixel the record + 1 it shows,
+/// 0 none) set their bits, one per record in 32-bit words (record r: bit r % 32 of word r / 32),
+/// and their flags in the shown set's buffer (both cleared before). A pixel showing the record of
+/// the pixel to its left adds nothing: one atomic OR per run of a record along a row.
+Stage owners_shader() {
+    Stage s;
+    s.text =
+        "layout(local_size_x = 8, local_size_y = 8) in;\n\n"
+        "layout(binding = 0) uniform usampler2D qc_ids;  // per pixel the record it shows + 1 (0: none)\n"
+        "layout(std430, binding = 10) writeonly buffer qc_Shown { uint qc_shown[]; };\n"
+        "layout(std430, binding = 13) buffer qc_Bits { uint qc_bits[]; };\n"
+        "uniform uvec2 qc_size;   // the viewport\n"
+        "uniform uint qc_records;  // the renderer's records (larger ids are not read)\n\n"
+        "void main()\n{\n"
+        "    uvec2 p = gl_GlobalInvocationID.xy;\n"
+        "    if (p.x >= qc_size.x || p.y >= qc_size.y) return;\n"
+        "    uint id = texelFetch(qc_ids, ivec2(p), 0).r;\n"
+        "    if (id == 0u || id > qc_records) return;\n"
+        "    if (p.x > 0u && texelFetch(qc_ids, ivec2(p) - ivec2(1, 0), 0).r == id) return;  // (that pixel sets it)\n"
+        "    uint r = id - 1u;\n"
+        "    qc_shown[r] = 1u;\n"
+        "    atomicOr(qc_bits[r >> 5u], 1u << (r & 31u));\n"
+        "}\n";
+    return s;
+}
+
+/// The bits of a variant's records [qc_first, qc_first + qc_count) in word i of its range (word
+/// qc_first / 32 + i), for the count and the compaction of the shown set's list.
+const char* owner_words_glsl =
+    "layout(local_size_x = 64) in;\n\n"
+    "layout(std430, binding = 13) readonly buffer qc_Bits { uint qc_bits[]; };\n"
+    "uniform uint qc_first;  // the variant's first record\n"
+    "uniform uint qc_count;  // its records\n\n"
+    "uint qc_owner_words() { return qc_count == 0u ? 0u : ((qc_first + qc_count - 1u) >> 5u) - (qc_first >> 5u) + 1u; }\n\n"
+    "uint qc_owner_word(uint i)\n{\n"
+    "    uint w = (qc_first >> 5u) + i;\n"
+    "    uint lo = max(qc_first, w << 5u) - (w << 5u), hi = min(qc_first + qc_count - (w << 5u), 32u);  // the variant's bits [lo, hi)\n"
+    "    uint below_hi = hi == 32u ? 0xffffffffu : (1u << hi) - 1u;\n"
+    "    return qc_bits[w] & below_hi & ~((1u << lo) - 1u);\n"
+    "}\n\n";
+
+/// Per word of a variant's range its shown records (into qc_groups, which the scan pass turns into
+/// each word's first slot and the count into the variant's command).
+Stage owner_count_shader() {
+    Stage s;
+    s.text = std::string(owner_words_glsl) + linear_group_glsl +
+             "layout(std430, binding = 7) writeonly buffer qc_Groups { uint qc_groups[]; };\n\n"
+             "void main()\n{\n"
+             "    uint i = qc_linear_group() * 64u + gl_LocalInvocationID.x;\n"
+             "    if (i >= qc_owner_words()) return;\n"
+             "    qc_groups[i] = uint(bitCount(qc_owner_word(i)));\n"
+             "}\n";
+    return s;
+}
+
+/// Per word of a variant's range its shown records in order into the set's list, from the word's
+/// first slot (the variant's records from list slot qc_first, as the visible list's).
+Stage owner_compact_shader() {
+    Stage s;
+    s.text = std::string(owner_words_glsl) + linear_group_glsl +
+             "layout(std430, binding = 4) writeonly buffer qc_List { uint qc_list[]; };\n"
+             "layout(std430, binding = 7) readonly buffer qc_Groups { uint qc_groups[]; };\n\n"
+             "void main()\n{\n"
+             "    uint i = qc_linear_group() * 64u + gl_LocalInvocationID.x;\n"
+             "    if (i >= qc_owner_words()) return;\n"
+             "    uint bits = qc_owner_word(i);\n"
+             "    uint slot = qc_first + qc_groups[i];\n"
+             "    uint base = ((qc_first >> 5u) + i) << 5u;\n"
+             "    while (bits != 0u) {\n"
+             "        qc_list[slot++] = base + uint(findLSB(bits));\n"
+             "        bits &= bits - 1u;\n"
+             "    }\n"
+             "}\n";
+    return s;
+}
+
 /// Occlusion pass 6, the vertex stage's per-primitive work (OcclusionPass::bounds), one invocation
 /// per slot of a variant's visible list (its count from the variant's indirect command): for the
 /// primitive in the slot, what the vertex stage of its variant (`sphere`: the sphere-specialised
@@ -981,6 +1066,12 @@ StageText occlusion_stage(const render::OcclusionKey& k) {
     case render::OcclusionPass::shadow_phases:
         return stage_text(StageText::Kind::compute, "qc_shadow_phases.comp", shadow_phases_shader(),
                           "deferred shading: the shadow map in phases of the PCF step, for gathered samples");
+    case render::OcclusionPass::owners:
+        return stage_text(StageText::Kind::compute, "qc_owners.comp", owners_shader(), "occlusion culling: the records the picture shows, into the shown set's bits");
+    case render::OcclusionPass::owner_count:
+        return stage_text(StageText::Kind::compute, "qc_owner_count.comp", owner_count_shader(), "occlusion culling: the shown records per word of the shown set's bits");
+    case render::OcclusionPass::owner_compact:
+        return stage_text(StageText::Kind::compute, "qc_owner_compact.comp", owner_compact_shader(), "occlusion culling: the shown records in order into the shown set's list");
     case render::OcclusionPass::outline_tiles:
         return stage_text(StageText::Kind::compute, "qc_outline_tiles.comp", outline_tiles_shader(),
                           "deferred shading: the 8 x 8 tiles where the background's outlines may differ from the background colour");

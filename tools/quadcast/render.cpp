@@ -353,6 +353,29 @@ int run_render(const RenderArgs& a) {
                 std::printf("%s: PCF samples gathered from the shadow map in phases: median frame %.2f ms; read one by one %.2f ms; %.2fx, %d pairs interleaved\n",
                             a.scene.c_str(), median(gathered), median(single), median(single) / median(gathered), a.frames);
             }
+            if (fr.options.occlusion_culling && r.unchanged_view() && r.reused_shown_set()) {
+                // The view unchanged: the records the picture shows drawn alone (the default)
+                // against the occlusion test's set drawn alone, in alternating blocks (a switch
+                // makes the renderer test again: each block draws until its set is drawn alone,
+                // then times one frame; the default last).
+                std::vector<double> picture, tested;
+                std::size_t picture_drawn = 0, tested_drawn = 0;
+                for (int i = 0; i < a.frames; ++i)
+                    for (bool from_picture : {false, true}) {
+                        r.set_shown_from_picture(from_picture);
+                        for (int k = 0; k < 8; ++k) {  // (at least once: the switch is a change the renderer tests again)
+                            r.draw(fr.camera, fr.light, fr.options);
+                            if (from_picture ? r.shown_set_from_picture() : r.unchanged_view()) break;
+                        }
+                        const auto t0 = std::chrono::steady_clock::now();
+                        r.draw(fr.camera, fr.light, fr.options);
+                        (from_picture ? picture : tested).push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+                        (from_picture ? picture_drawn : tested_drawn) = r.drawn_primitives();
+                    }
+                std::printf("%s: view unchanged: the records the picture shows drawn alone, %zu primitives, median frame %.2f ms; the occlusion test's set "
+                            "drawn alone, %zu primitives, %.2f ms; %.2fx, %d pairs in alternating blocks\n",
+                            a.scene.c_str(), picture_drawn, median(picture), tested_drawn, median(tested), median(tested) / median(picture), a.frames);
+            }
             if (slim.ball_count() > 0) {
                 std::printf("%s: %zu SLIM balls, three passes, %d-bit float accumulation targets", a.scene.c_str(), slim.ball_count(), slim.precision());
                 if (fr.options.culling) {
@@ -368,7 +391,11 @@ int run_render(const RenderArgs& a) {
                 }
                 std::printf("\n");
             }
-            if (fr.options.occlusion_culling && r.unchanged_view())
+            if (fr.options.occlusion_culling && r.unchanged_view() && r.shown_set_from_picture())
+                std::printf("%s: the records an earlier frame's picture showed drawn alone, the view unchanged: %zu primitives drawn, %zu left out "
+                            "(outside the view or hidden); no cull pass\n",
+                            a.scene.c_str(), r.drawn_primitives(), r.occluded());
+            else if (fr.options.occlusion_culling && r.unchanged_view())
                 std::printf("%s: the last frame's shown set drawn alone, its view unchanged since the test that chose it: %zu primitives drawn, %zu left out by that test "
                             "(outside the view or hidden); no cull pass\n",
                             a.scene.c_str(), r.drawn_primitives(), r.occluded());

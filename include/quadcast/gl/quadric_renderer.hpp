@@ -92,6 +92,18 @@ public:
     void set_shadow_phases(bool on);
     /// Whether the last `draw`'s deferred pass read the shadow map in phases (set_shadow_phases).
     bool used_shadow_phases() const;
+    /// A shown set drawn alone (`unchanged_view`) in the renderer's own target is the records the
+    /// picture shows (the default): a frame whose camera has not moved since the last one also
+    /// writes each pixel's record into an ids target (QuadricKey::ids), compute passes list the
+    /// records left in it, and the next frame with the view unchanged draws those alone: a subset
+    /// of the test's set (which keeps records whose bounds reach a pixel farther than their
+    /// nearest distance), the same picture. A moving camera pays nothing for it (its views do not
+    /// repeat); the first frame after it moves draws the smaller set first. Off, the test's set
+    /// is drawn alone. The same picture either way; a switch for benchmarks and tests.
+    void set_shown_from_picture(bool on);
+    /// Whether the last `draw` drew alone the records an earlier frame's picture showed, its view
+    /// unchanged (set_shown_from_picture; `unchanged_view` is then true too).
+    bool shown_set_from_picture() const;
     /// A frame reusing the last one's shown set (RenderOptions::occlusion_reuse) whose view -- the
     /// camera's matrices, the viewport, back-face culling, the primitives and settings -- is the one
     /// that set was tested under draws the set alone (the default): that test kept every primitive

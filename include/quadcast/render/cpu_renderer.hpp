@@ -352,6 +352,7 @@ struct TileScratch {
     std::int32_t prim[tile_size * tile_size];
     Vec3<float> normal[tile_size * tile_size];
     std::uint64_t fragments = 0, hits = 0;
+    std::vector<std::int32_t> winners;  ///< with stats: the primitives nearest at the thread's pixels (runs along rows once)
 };
 
 /// Casts primitive `index` at the pixels of `r` (clipped to the tile at (tx0, ty0)) and keeps
@@ -506,6 +507,13 @@ inline Image render_validated(const std::vector<Primitive>& prims, const Camera&
             const Primitive& p = prims[i];
             dispatch_variant(p.variant, options.culling, [&]<CastOptions Opt>() { cast_rect<Opt>(p, i, r, tx0, ty0, f, s); });
         }
+        // (with stats, the tile's winners: what the picture shows)
+        if (stats)
+            for (int y = ty0; y <= ty1; ++y)
+                for (int x = tx0; x <= tx1; ++x) {
+                    const std::int32_t w = s.prim[(y - ty0) * tile_size + (x - tx0)];
+                    if (w >= 0 && (s.winners.empty() || s.winners.back() != w)) s.winners.push_back(w);
+                }
         // Shade the winners and write the tile (row 0 of the image is the top)
         for (int y = ty0; y <= ty1; ++y)
             for (int x = tx0; x <= tx1; ++x) {
@@ -570,10 +578,13 @@ inline Image render_validated(const std::vector<Primitive>& prims, const Camera&
         *stats = FrameStats{};
         stats->primitives = prims.size();
         for (std::uint8_t c : is_culled) stats->culled += c;
+        std::vector<std::uint8_t> shown(prims.size(), 0);
         for (const TileScratch& s : scratch) {
             stats->fragments += s.fragments;
             stats->hits += s.hits;
+            for (std::int32_t w : s.winners) shown[static_cast<std::size_t>(w)] = 1;
         }
+        for (std::uint8_t c : shown) stats->shown += c;
     }
     return img;
 }

@@ -168,6 +168,7 @@ struct Image {
 struct FrameStats {
     std::uint64_t primitives = 0, culled = 0, fragments = 0;
     std::uint64_t hits = 0;  ///< fragments whose cast hit within the depth range (before the depth test)
+    std::uint64_t shown = 0;  ///< primitives the picture shows (nearest at one pixel or more)
 };
 
 }  // namespace quadcast::render

@@ -90,6 +90,10 @@ struct QuadricKey {
     /// Without it the stage has no test at all: llvmpipe runs a test turned off by a uniform
     /// anyway, masked (1TII balls and sticks and 10k spheres were 3-10% slower with it).
     bool early = false;
+    /// The stage also writes each pixel it covers the record's index + 1 (an R32UI target: location
+    /// 1 forward, 3 into the geometry buffer), so that the depth test leaves in it the record each
+    /// pixel shows (QuadricRenderer's shown set, OcclusionPass::owners). Not the pass-through stage.
+    bool ids = false;
     friend constexpr bool operator==(const QuadricKey&, const QuadricKey&) = default;
 };
 
@@ -102,6 +106,7 @@ constexpr QuadricKey canonical(QuadricKey k) {
     if (k.stage != FragmentStage::incremental) k.count = false;
     if (k.stage != FragmentStage::incremental || k.shape == FragmentShape::sphere) k.early = false;
     if (k.stage == FragmentStage::passthrough) {
+        k.ids = false;
         k.cull = true;
         if (k.shape != FragmentShape::sphere) k.shape = FragmentShape::ellipsoid;
     }
@@ -109,8 +114,9 @@ constexpr QuadricKey canonical(QuadricKey k) {
 }
 
 constexpr QuadricKey quadric_key(Variant v, bool culling, bool ortho, bool gbuffer, bool environment,
-                                 FragmentStage stage = FragmentStage::incremental, bool points = false, bool count = false, bool early = false) {
-    return canonical(QuadricKey{fragment_shape(v), cast_options(v, culling).cull, ortho, gbuffer, environment, stage, points, count, early});
+                                 FragmentStage stage = FragmentStage::incremental, bool points = false, bool count = false, bool early = false,
+                                 bool ids = false) {
+    return canonical(QuadricKey{fragment_shape(v), cast_options(v, culling).cull, ortho, gbuffer, environment, stage, points, count, early, ids});
 }
 
 /// Throws std::invalid_argument naming why no stages exist for `k`.
@@ -160,7 +166,10 @@ struct DeferredKey {
 /// (`outline_tiles`; the background's pixels elsewhere keep the colour they are cleared to), and
 /// its soft shadows read the shadow map in phases of the PCF step (`shadow_phases`,
 /// DeferredKey::phases).
-enum class OcclusionPass : std::uint8_t { occluders, pyramid, cull, scan, compact, bounds, depth_image, occluder_raster, element_cull_cubes, element_cull_tets, element_cull_cells, element_compact, phase_compact, outline_tiles, shadow_phases };
+/// The quadric renderer's shown set is made from the picture (`owners`: the records the ids target
+/// shows set their bits; `owner_count`: each word's bits in a variant's range; `owner_compact`:
+/// those records in order into the set's list).
+enum class OcclusionPass : std::uint8_t { occluders, pyramid, cull, scan, compact, bounds, depth_image, occluder_raster, element_cull_cubes, element_cull_tets, element_cull_cells, element_compact, phase_compact, outline_tiles, shadow_phases, owners, owner_count, owner_compact };
 struct OcclusionKey {
     OcclusionPass pass = OcclusionPass::occluders;
     bool sphere = false;  ///< `bounds`: of the sphere-specialised vertex stage; `cull`: for the bounding sphere's rectangle (every bound but the ellipsoid and slab ones)
@@ -205,6 +214,7 @@ inline std::string key_name(const QuadricKey& k) {
     if (k.points) s += ":points";
     if (k.count) s += ":count";
     if (k.early) s += ":early";
+    if (k.ids) s += ":ids";
     return s;
 }
 inline std::string key_name(const DeferredKey& k) {
@@ -220,7 +230,8 @@ inline std::string key_name(const OcclusionKey& k) {
     const char* pass = k.pass == OcclusionPass::occluders ? "occluders" : k.pass == OcclusionPass::pyramid ? "pyramid" : k.pass == OcclusionPass::cull ? "cull" : k.pass == OcclusionPass::scan ? "scan" : k.pass == OcclusionPass::compact ? "compact" : k.pass == OcclusionPass::depth_image ? "depth_image" : k.pass == OcclusionPass::occluder_raster ? "occluder_raster"
                      : k.pass == OcclusionPass::element_cull_cubes ? "element_cull_cubes" : k.pass == OcclusionPass::element_cull_tets ? "element_cull_tets" : k.pass == OcclusionPass::element_cull_cells ? "element_cull_cells"
                      : k.pass == OcclusionPass::element_compact ? "element_compact" : k.pass == OcclusionPass::phase_compact ? "phase_compact"
-                     : k.pass == OcclusionPass::outline_tiles ? "outline_tiles" : k.pass == OcclusionPass::shadow_phases ? "shadow_phases" : "bounds";
+                     : k.pass == OcclusionPass::outline_tiles ? "outline_tiles" : k.pass == OcclusionPass::shadow_phases ? "shadow_phases"
+                     : k.pass == OcclusionPass::owners ? "owners" : k.pass == OcclusionPass::owner_count ? "owner_count" : k.pass == OcclusionPass::owner_compact ? "owner_compact" : "bounds";
     if (k.pass == OcclusionPass::cull) return std::string("occlusion:") + pass + (k.sphere ? ":sphere" : ":ellipsoid_slab");
     if (k.pass != OcclusionPass::bounds) return std::string("occlusion:") + pass;
     return std::string("occlusion:") + pass + (k.sphere ? ":sphere" : ":quadric") + (k.ortho ? ":ortho" : ":perspective");
@@ -247,7 +258,8 @@ inline std::vector<OcclusionKey> all_occlusion_keys() {
     std::vector<OcclusionKey> out{{OcclusionPass::occluders}, {OcclusionPass::pyramid}, {OcclusionPass::cull, false}, {OcclusionPass::cull, true}, {OcclusionPass::scan}, {OcclusionPass::compact},
                                   {OcclusionPass::depth_image}, {OcclusionPass::occluder_raster},
                                   {OcclusionPass::element_cull_cubes}, {OcclusionPass::element_cull_tets}, {OcclusionPass::element_cull_cells}, {OcclusionPass::element_compact},
-                                  {OcclusionPass::phase_compact}, {OcclusionPass::outline_tiles}, {OcclusionPass::shadow_phases}};
+                                  {OcclusionPass::phase_compact}, {OcclusionPass::outline_tiles}, {OcclusionPass::shadow_phases},
+                                  {OcclusionPass::owners}, {OcclusionPass::owner_count}, {OcclusionPass::owner_compact}};
     for (bool sphere : {false, true})
         for (bool ortho : {false, true}) out.push_back({OcclusionPass::bounds, sphere, ortho});
     return out;
@@ -283,6 +295,14 @@ inline std::vector<QuadricKey> all_quadric_keys() {
         for (FragmentShape s : {FragmentShape::ellipsoid, FragmentShape::sphere}) {
             out.push_back({s, true, ortho, false, false, FragmentStage::passthrough});
             if (s == FragmentShape::sphere) out.push_back({s, true, ortho, false, false, FragmentStage::passthrough, true});
+        }
+    // (each stage but the pass-through one also writing the ids target)
+    const std::size_t n = out.size();
+    for (std::size_t i = 0; i < n; ++i)
+        if (out[i].stage != FragmentStage::passthrough) {
+            QuadricKey k = out[i];
+            k.ids = true;
+            out.push_back(k);
         }
     return out;
 }
