@@ -353,7 +353,7 @@ int run_render(const RenderArgs& a) {
                 std::printf("%s: PCF samples gathered from the shadow map in phases: median frame %.2f ms; read one by one %.2f ms; %.2fx, %d pairs interleaved\n",
                             a.scene.c_str(), median(gathered), median(single), median(single) / median(gathered), a.frames);
             }
-            if (fr.options.occlusion_culling && r.unchanged_view() && r.reused_shown_set()) {
+            if (fr.options.occlusion_culling && r.unchanged_view()) {  // (a frame with its view unchanged reused a set)
                 // The view unchanged: the records the picture shows drawn alone (the default)
                 // against the occlusion test's set drawn alone, in alternating blocks (a switch
                 // makes the renderer test again: each block draws until its set is drawn alone,
