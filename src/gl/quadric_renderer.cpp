@@ -723,7 +723,9 @@ public:
         // this view's picture), so the picture is complete, and a new test would keep a subset of
         // the set. The set stays.
         const std::vector<std::uint64_t> view = shown ? view_key(cam, viewport, opt) : std::vector<std::uint64_t>{};
-        view_unchanged_ = reused_ && shown->listed && shown->against_drawn && !compute_bounds_ && keep_unchanged_sets_ && shown->view == view;
+        // (the set's view is this one: the camera has not moved since the frame that tested it)
+        const bool same_view = reused_ && shown->listed && !compute_bounds_ && keep_unchanged_sets_ && shown->view == view;
+        view_unchanged_ = same_view && shown->against_drawn;
         // The records the picture shows (set_shown_from_picture), made where the camera has not
         // moved since the last frame (the set's view is this one: a reusing frame that tests the
         // set again, or one that draws the test's set alone), in the renderer's own target with
@@ -741,8 +743,7 @@ public:
             shown->of_picture = true;
         }
         picture_set_drawn_ = view_unchanged_ && shown->of_picture;
-        const bool still = view_unchanged_ ? !shown->of_picture : reused_ && shown->listed && shown->view == view && !compute_bounds_ && keep_unchanged_sets_;
-        ids_frame_ = still && shown_from_picture_ && depth_target == tex_[1] && depth_test_ && stage_ != render::FragmentStage::passthrough;
+        ids_frame_ = same_view && !picture_set_drawn_ && shown_from_picture_ && depth_target == tex_[1] && depth_test_ && stage_ != render::FragmentStage::passthrough;
         if (ids_frame_) {
             const GLenum bufs[4] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2, GL_COLOR_ATTACHMENT3};
             gl.DrawBuffers(deferred ? 4 : 2, bufs);
@@ -784,11 +785,7 @@ public:
             if (listed_now) {
                 shown->view = view;
                 shown->against_drawn = reused_;  // (a frame recording its first set tested against occluder disks: tested once more, it keeps fewer)
-                std::uint32_t counts[5 * render::variant_count] = {};
-                gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, commands2_);
-                gl.GetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, sizeof counts, counts);
-                gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
-                for (int v = 0; v < render::variant_count; ++v) shown->counts[static_cast<std::size_t>(v)] = ranges_[v].second ? counts[5 * v] : 0u;
+                shown->counts = listed_counts();
             }
         }
         if (ids_frame_) {  // (after the test's counts were read from commands2_, which make_owner_set reuses)
@@ -1055,6 +1052,7 @@ private:
                 gl.UseProgram(p->id());
                 gl.Uniform1ui(p->uniform_location("qc_first"), first);
                 gl.Uniform1ui(p->uniform_location("qc_count"), n);
+                gl.Uniform1ui(p->uniform_location("qc_words"), variant_words);
             }
             gl.UseProgram(count.id());
             dispatch_rows(gl, (variant_words + 63) / 64);
@@ -1071,11 +1069,20 @@ private:
         }
         for (GLuint b : {4u, 5u, 7u, 10u, 13u}) gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, b, 0);
         gl.MemoryBarrier(GL_ALL_BARRIER_BITS);
-        std::uint32_t counts[5 * render::variant_count] = {};
+        set.counts = listed_counts();
+    }
+
+    /// Per variant the records the last compaction into a shown set's list wrote (the scan pass's
+    /// count in each variant's command of commands2_; waits for it).
+    std::array<std::uint32_t, render::variant_count> listed_counts() const {
+        const Api& gl = *api_;
+        std::uint32_t cmds[5 * render::variant_count] = {};
         gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, commands2_);
-        gl.GetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, sizeof counts, counts);
+        gl.GetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, sizeof cmds, cmds);
         gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
-        for (int v = 0; v < render::variant_count; ++v) set.counts[static_cast<std::size_t>(v)] = ranges_[v].second ? counts[5 * v] : 0u;
+        std::array<std::uint32_t, render::variant_count> counts{};
+        for (int v = 0; v < render::variant_count; ++v) counts[static_cast<std::size_t>(v)] = ranges_[v].second ? cmds[5 * v] : 0u;
+        return counts;
     }
 
     void run_cull_pass(const render::Camera& cam, const render::RenderOptions& opt, int width, int height, const Phase& ph) {

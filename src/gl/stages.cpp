@@ -886,8 +886,8 @@ const char* owner_words_glsl =
     "layout(local_size_x = 64) in;\n\n"
     "layout(std430, binding = 13) readonly buffer qc_Bits { uint qc_bits[]; };\n"
     "uniform uint qc_first;  // the variant's first record\n"
-    "uniform uint qc_count;  // its records\n\n"
-    "uint qc_owner_words() { return qc_count == 0u ? 0u : ((qc_first + qc_count - 1u) >> 5u) - (qc_first >> 5u) + 1u; }\n\n"
+    "uniform uint qc_count;  // its records\n"
+    "uniform uint qc_words;  // the words its bits span (the host's count, also the scan pass's)\n\n"
     "uint qc_owner_word(uint i)\n{\n"
     "    uint w = (qc_first >> 5u) + i;\n"
     "    uint lo = max(qc_first, w << 5u) - (w << 5u), hi = min(qc_first + qc_count - (w << 5u), 32u);  // the variant's bits [lo, hi)\n"
@@ -903,7 +903,7 @@ Stage owner_count_shader() {
              "layout(std430, binding = 7) writeonly buffer qc_Groups { uint qc_groups[]; };\n\n"
              "void main()\n{\n"
              "    uint i = qc_linear_group() * 64u + gl_LocalInvocationID.x;\n"
-             "    if (i >= qc_owner_words()) return;\n"
+             "    if (i >= qc_words) return;\n"
              "    qc_groups[i] = uint(bitCount(qc_owner_word(i)));\n"
              "}\n";
     return s;
@@ -918,7 +918,7 @@ Stage owner_compact_shader() {
              "layout(std430, binding = 7) readonly buffer qc_Groups { uint qc_groups[]; };\n\n"
              "void main()\n{\n"
              "    uint i = qc_linear_group() * 64u + gl_LocalInvocationID.x;\n"
-             "    if (i >= qc_owner_words()) return;\n"
+             "    if (i >= qc_words) return;\n"
              "    uint bits = qc_owner_word(i);\n"
              "    uint slot = qc_first + qc_groups[i];\n"
              "    uint base = ((qc_first >> 5u) + i) << 5u;\n"
