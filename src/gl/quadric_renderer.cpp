@@ -213,6 +213,8 @@ public:
         ++revision_;
     }
     bool shown_set_from_picture() const { return picture_set_drawn_; }
+    void set_reshade(bool on) { reshade_ = on; }
+    bool reshaded() const { return reshaded_; }
     bool used_shadow_phases() const { return phases_used_; }
 
     /// Whether the deferred pass may read the shadow map in phases (set_shadow_phases); it does where
@@ -743,6 +745,10 @@ public:
             shown->of_picture = true;
         }
         picture_set_drawn_ = view_unchanged_ && shown->of_picture;
+        // (the ids target still holds the picture's records: only an ids frame writes it, and the
+        // set is the picture's only while its view is this one, in this target)
+        reshade_frame_ = picture_set_drawn_ && reshade_ && depth_target == tex_[1] && stage_ == render::FragmentStage::incremental;
+        reshaded_ = false;
         ids_frame_ = same_view && !picture_set_drawn_ && shown_from_picture_ && depth_target == tex_[1] && depth_test_ && stage_ != render::FragmentStage::passthrough;
         if (ids_frame_) {
             const GLenum bufs[4] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2, GL_COLOR_ATTACHMENT3};
@@ -932,6 +938,21 @@ public:
             const auto listed = static_cast<GLsizei>(ph.listed ? ph.listed->counts[static_cast<std::size_t>(v)] : 0u);
             if (ph.listed && listed == 0) continue;
             const bool points = points_ && variant == render::Variant::sphere;
+            if (reshade_frame_ && variant == render::Variant::sphere) {
+                // The records the picture shows, each pixel's shaded once from the ids target (QuadricKey::reshade)
+                const render::QuadricKey key = render::quadric_key(variant, opt.culling, cam.orthographic, deferred, opt.environment != nullptr, stage_, false,
+                                                                   counting_, false, false, true);
+                const Program& prog = programs_.get(key);
+                gl.UseProgram(prog.id());
+                set_uniforms(prog, cam, light, opt, viewport[2], viewport[3]);
+                gl.Uniform1ui(prog.require_uniform("qc_reshade_first"), ranges_[v].first);
+                gl.Uniform1ui(prog.require_uniform("qc_reshade_count"), ranges_[v].second);
+                gl.BindTextureUnit(reshade_ids_unit, idtex_);
+                gl.DrawArrays(GL_TRIANGLES, 0, 3);
+                gl.BindTextureUnit(reshade_ids_unit, 0);
+                reshaded_ = true;
+                continue;
+            }
             // The early discard (QuadricKey::early): not the planes variant unless all its patches
             // show only inside their bounding balls (a bilinear patch may reach out of its ball
             // inside its quad), nor the sphere variant, whose cast costs about what the test does
@@ -1589,6 +1610,9 @@ private:
     bool shadow_phases_ = true;     ///< set_shadow_phases
     bool shown_from_picture_ = true;  ///< set_shown_from_picture
     bool ids_frame_ = false;        ///< this frame's primitives write the ids target (draw_primitives)
+    bool reshade_ = true;           ///< set_reshade
+    bool reshade_frame_ = false;    ///< this frame shades the sphere variant from the ids target (draw_primitives)
+    bool reshaded_ = false;         ///< it did (reshaded)
     bool picture_set_drawn_ = false;  ///< the last `draw_primitives` drew a picture's records alone (shown_set_from_picture)
     GLuint idtex_ = 0;              ///< the ids target (R32UI: per pixel the record it shows + 1)
     GLuint owner_bits_ = 0, owner_groups_ = 0;  ///< the shown records' bits, their words' counts (make_owner_set)
@@ -1691,6 +1715,8 @@ void QuadricRenderer::set_outline_tiles(bool on) { impl_->set_outline_tiles(on);
 void QuadricRenderer::set_shadow_phases(bool on) { impl_->set_shadow_phases(on); }
 void QuadricRenderer::set_shown_from_picture(bool on) { impl_->set_shown_from_picture(on); }
 bool QuadricRenderer::shown_set_from_picture() const { return impl_->shown_set_from_picture(); }
+void QuadricRenderer::set_reshade(bool on) { impl_->set_reshade(on); }
+bool QuadricRenderer::reshaded() const { return impl_->reshaded(); }
 bool QuadricRenderer::used_shadow_phases() const { return impl_->used_shadow_phases(); }
 void QuadricRenderer::set_skip_unchanged_view_test(bool on) { impl_->set_skip_unchanged_view_test(on); }
 void QuadricRenderer::set_raster_occluders(bool on) { impl_->set_raster_occluders(on); }

@@ -300,11 +300,18 @@ Stage fragment_shader(const render::QuadricKey& k) {
              "// the bits of a view distance no nearer than what the pixel shows, or all ones).\n"
              << detail::depth_texels_glsl()
              << "uniform int qc_depth_width;   // its width (the viewport's)\n";
-    m << "flat in float qc_nearest;     // the primitive's nearest view distance (quadcast::nearest_distance)\n";
+    if (!k.reshade) m << "flat in float qc_nearest;     // the primitive's nearest view distance (quadcast::nearest_distance)\n";
     if (k.count)
         m << "// Fragment counts (a measurement): started, passed the early discard (cast their ray), hit\n"
              "layout(std430, binding = 14) buffer qc_FragmentCounts { uint qc_fragment_count[3]; };\n";
-    if (sphere)
+    if (k.reshade)
+        m << "\n" << record_glsl
+          << "// Shaded from the ids target (QuadricKey::reshade): per pixel the record it showed + 1 (0: none),\n"
+             "// the sphere variant's records [qc_reshade_first, qc_reshade_first + qc_reshade_count).\n"
+             "layout(binding = " << reshade_ids_unit << ") uniform usampler2D qc_ids;\n"
+             "uniform uint qc_reshade_first, qc_reshade_count;\n"
+             "float qc_radius;\nvec3 qc_center;\nvec3 qc_prim_color;\nvec2 qc_prim_material;  // the record's, as the sprites' varyings\n";
+    else if (sphere)
         m << "\nflat in float qc_radius;\nflat in vec3 qc_center;\nflat in vec3 qc_prim_color;\nflat in vec2 qc_prim_material;\n";
     else
         m << "\n" << detail::record_varyings_glsl("in");
@@ -320,6 +327,14 @@ Stage fragment_shader(const render::QuadricKey& k) {
     m << fns.str();
     m << "void main()\n{\n";
     if (k.count) m << "    atomicAdd(qc_fragment_count[0], 1u);\n";
+    if (k.reshade)
+        m << "    uint qc_shown_id = texelFetch(qc_ids, ivec2(gl_FragCoord.xy), 0).r;\n"
+             "    if (qc_shown_id == 0u || qc_shown_id - 1u - qc_reshade_first >= qc_reshade_count) discard;  // (no sphere here)\n"
+             "    qc_Primitive qc_shown = qc_prims[qc_shown_id - 1u];\n"
+             "    qc_radius = qc_record_radius(qc_shown);\n"
+             "    qc_center = qc_record_center(qc_shown);\n"
+             "    qc_prim_color = qc_record_color(qc_shown);\n"
+             "    qc_prim_material = qc_record_material(qc_shown);\n";
     if (k.early)
         m << "    // Behind the occluders at this pixel: nothing of this primitive can show here (quadcast/occlusion.hpp)\n"
              "    if (qc_nearest > 0.0 && floatBitsToUint(qc_nearest) > qc_depth_texel(qc_pyramid_index(uvec3(0u, uint(qc_depth_width), 0u), uvec2(gl_FragCoord.xy)))) discard;\n";
@@ -1135,6 +1150,19 @@ std::vector<StageText> program_stages(const render::QuadricKey& key) {
     const std::string proj = k.ortho ? "ortho" : "perspective";
     std::vector<StageText> out;
     const bool planes = k.shape == FragmentShape::planes;
+    if (k.reshade) {
+        Stage v;
+        v.text = "// A triangle over the whole viewport (vertices 0, 1, 2)\n"
+                 "void main()\n{\n"
+                 "    gl_Position = vec4(float((gl_VertexID & 1) * 4 - 1), float((gl_VertexID >> 1) * 4 - 1), 0.0, 1.0);\n"
+                 "}\n";
+        out.push_back(stage_text(StageText::Kind::vertex, "qc_sphere_reshade.vert", v, "quadric renderer: the sphere variant shaded from the ids target, a full-screen triangle"));
+        const std::string variant = std::string("sphere") + (k.cull ? "" : "_nocull");
+        out.push_back(stage_text(StageText::Kind::fragment, (k.gbuffer ? "qc_gbuffer_" : "qc_quadric_") + variant + (k.environment ? "_environment" : "") + "_reshade_" + proj + ".frag",
+                                 fragment_shader(k), "quadric renderer: " + std::string(k.gbuffer ? "geometry-buffer " : "") + "fragment stage, " + variant +
+                                                         " shaded from the ids target (QuadricKey::reshade), " + proj + " camera"));
+        return out;
+    }
     const std::string vname = (sphere ? (k.points ? "qc_sphere_points_" : "qc_sphere_") : planes ? "qc_quadric_planes_" : "qc_quadric_") + proj + ".vert";
     out.push_back(stage_text(StageText::Kind::vertex, vname, sphere ? sphere_vertex_shader(k.ortho, k.points) : vertex_shader(k.ortho, planes),
                              sphere   ? "quadric renderer: vertex stage of the sphere variant" + std::string(k.points ? " (point sprites)" : "") + ", " + proj + " camera"

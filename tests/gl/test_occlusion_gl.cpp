@@ -10,6 +10,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <random>
 #include <string>
 #include <utility>
@@ -19,6 +20,7 @@
 #include "quadcast/gl/osmesa_context.hpp"
 #include "quadcast/gl/quadric_renderer.hpp"
 #include "quadcast/render/cpu_renderer.hpp"
+#include "quadcast/render/environment.hpp"
 #include "quadcast/occlusion.hpp"
 #include "quadcast/render/occluder.hpp"
 #include "core/param_test_util.hpp"
@@ -971,6 +973,18 @@ TEST_CASE("reusing the last frame's shown set changes no pixel, as the camera mo
     }
 }
 
+/// The options of the shown-set tests' modes: 0 forward, 1 back-face culling off, 2 deferred with
+/// shadows and outlines (3 and up: forward; the caller adds to it); the cull pass whatever the overlap.
+RenderOptions mode_options(int mode, int w, int h) {
+    RenderOptions o;
+    o.occlusion_min_overlap = 0.0f;
+    o.width = w;
+    o.height = h;
+    o.culling = mode != 1;
+    o.deferred = o.shadows = o.silhouettes = mode == 2;
+    return o;
+}
+
 TEST_CASE("a shown set drawn alone becomes the records its picture shows: what the CPU reference's picture shows, the same picture") {
     // The same camera frame after frame: a frame whose camera has not moved since the last one
     // lists the records its picture shows, and the frames after it with the view unchanged draw
@@ -988,19 +1002,16 @@ TEST_CASE("a shown set drawn alone becomes the records its picture shows: what t
     Light light;
     light.direction = vec3(-0.4f, -0.6f, -1.0f);
     std::size_t fewer = 0, cases = 0;
+    int reshaded = 0;
     for (const Case& s : occlusion_cases(w, h)) {
         r.set_primitives(s.prims);
         plain.set_primitives(s.prims);
         tested.set_primitives(s.prims);
+        const bool has_spheres = std::any_of(s.prims.begin(), s.prims.end(), [](const Primitive& p) { return p.variant == render::Variant::sphere; });
         const Camera moved = turned(s.camera, 0.1f, glm::vec3(0.1f, 1.0f, 0.2f), glm::vec3(0.0f));
         const Camera* cams[] = {&s.camera, &s.camera, &s.camera, &s.camera, &s.camera, &moved, &s.camera, &s.camera, &s.camera, &s.camera};
         for (int mode = 0; mode < 3; ++mode) {
-            RenderOptions o;
-            o.occlusion_min_overlap = 0.0f;
-            o.width = w;
-            o.height = h;
-            o.culling = mode != 1;
-            o.deferred = o.shadows = o.silhouettes = mode == 2;
+            const RenderOptions o = mode_options(mode, w, h);
             RenderOptions off = o;
             off.occlusion_culling = false;
             render::FrameStats cpu;
@@ -1031,7 +1042,11 @@ TEST_CASE("a shown set drawn alone becomes the records its picture shows: what t
                     CHECK(std::abs(static_cast<double>(r.drawn_primitives()) - static_cast<double>(cpu.shown)) <= 2.0 + 0.01 * static_cast<double>(cpu.shown));
                 }
                 // The fourth frame of a still camera draws the picture's records alone, and so do
-                // the frames after it; the renderer without them, the test's set.
+                // the frames after it; the renderer without them, the test's set. The spheres among
+                // them are shaded from the ids target (set_reshade), the others drawn.
+                if (r.reshaded()) CHECK((r.shown_set_from_picture() && has_spheres));
+                reshaded += r.reshaded();
+                CHECK_FALSE(tested.reshaded());
                 if (f == 4 || f == 9) {
                     CHECK(r.shown_set_from_picture());
                     CHECK(tested.unchanged_view());
@@ -1047,4 +1062,104 @@ TEST_CASE("a shown set drawn alone becomes the records its picture shows: what t
         }
     }
     CHECK(fewer * 2 > cases);  // (the test's set is larger in most)
+    std::printf("[shown set from the picture] %d frames shaded the spheres from the ids target\n", reshaded);
+    CHECK(reshaded > 100);
+}
+
+TEST_CASE("the spheres shaded from the ids target: the sprites' picture and depth, the light and material of the frame, one fragment per pixel") {
+    // A still camera: from the fourth frame the records the picture shows are drawn alone and the
+    // sphere variant's are shaded from the ids target (QuadricRenderer::set_reshade). Against a
+    // renderer without occlusion culling, frame by frame: the same colour, depth and coverage,
+    // also after the light and the material change with the view kept (the ids say which record
+    // shows, not how it is lit), forward, culling off, deferred with shadows and outlines, with
+    // environment reflections, perspective and orthographic. The counted fragments of a reshaded frame of spheres alone:
+    // one started per pixel of the view, and as many hit as the picture covers (its pixels of
+    // depth below 1, read back independently), each once.
+    gl::OsmesaContext ctx;
+    gl::QuadricRenderer r(ctx.api()), plain(ctx.api());
+    const int w = 256, h = 192;
+    const double aspect = double(w) / h;
+    std::mt19937 rng(77);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    std::vector<Primitive> balls, mixed;
+    for (int i = 0; i < 3000; ++i) balls.push_back(shapes::sphere({u(rng), u(rng), u(rng)}, 0.04f, {{u(rng), u(rng), u(rng)}}));
+    mixed = balls;
+    for (int i = 0; i < 300; ++i) mixed.push_back(shapes::ellipsoid({u(rng), u(rng), u(rng)}, glm::vec3(0.08f, 0.03f, 0.05f), glm::mat3(1.0f), {{0.9f, 0.4f, 0.2f}}));
+    const Camera persp = qc_render_test::look_at(vec3(0.4, 0.7, 2.6), vec3(0.5, 0.5, 0.5), vec3(0.0, 1.0, 0.0), qc_render_test::perspective(35, aspect, 1, 5));
+    const Camera ortho = qc_render_test::look_at(vec3(0.4, 0.7, 2.6), vec3(0.5, 0.5, 0.5), vec3(0.0, 1.0, 0.0),
+                                                 qc_render_test::orthographic(-0.9 * aspect, 0.9 * aspect, -0.9, 0.9, 1, 5), true);
+    const auto env = std::make_shared<const render::EnvironmentMap>(render::procedural_environment({}, 256, 128));
+    int reshaded = 0;
+    for (const std::vector<Primitive>* prims : {&balls, &mixed}) {
+        r.set_primitives(*prims);
+        plain.set_primitives(*prims);
+        for (const Camera* cam : {&persp, &ortho}) {
+            for (int mode = 0; mode < 4; ++mode) {
+                RenderOptions o = mode_options(mode, w, h);
+                if (mode == 3) o.environment = env;
+                Light light;
+                light.direction = vec3(-0.4f, -0.6f, -1.0f);
+                for (int f = 0; f < 8; ++f) {
+                    if (f == 6) {
+                        light.direction = vec3(0.7f, -0.2f, -0.5f);
+                        light.color = vec3(1.0f, 0.8f, 0.6f);
+                        o.material = vec4(0.2f, 0.6f, 0.9f, 40.0f);
+                    }
+                    RenderOptions off = o;
+                    off.occlusion_culling = false;
+                    r.draw(*cam, light, o);
+                    plain.draw(*cam, light, off);
+                    CAPTURE(prims->size());
+                    CAPTURE(cam->orthographic);
+                    CAPTURE(mode);
+                    CAPTURE(f);
+                    const ImageDiff d = image_diff(r.read(), plain.read());
+                    CHECK(d.covered > 1000);
+                    CHECK(d.coverage_diff == 0);
+                    CHECK(d.color_diff == 0);
+                    CHECK(d.depth_diff == 0);
+                    if (f >= 4) CHECK(r.reshaded());
+                    reshaded += r.reshaded();
+                }
+                // Counted, spheres alone, forward: one fragment started per pixel, hits exactly the covered pixels
+                if (prims == &balls && mode == 0) {
+                    r.set_count_fragments(true);
+                    r.draw(*cam, light, o);
+                    r.set_count_fragments(false);
+                    REQUIRE(r.reshaded());
+                    const Image img = r.read();
+                    const auto covered = static_cast<std::uint64_t>(std::count_if(img.depth.begin(), img.depth.end(), [](float z) { return z < 1.0f; }));
+                    const gl::FragmentCounts& c = r.fragment_counts();
+                    CHECK(c.started == static_cast<std::uint64_t>(w) * static_cast<std::uint64_t>(h));
+                    CHECK(c.hit == covered);
+                    CHECK(c.cast >= c.hit);
+                    CHECK(c.cast <= covered);
+                }
+            }
+        }
+    }
+    // Switched off, the sprites are drawn: the same picture
+    r.set_primitives(mixed);
+    plain.set_primitives(mixed);
+    RenderOptions o;
+    o.occlusion_min_overlap = 0.0f;
+    o.width = w;
+    o.height = h;
+    RenderOptions off = o;
+    off.occlusion_culling = false;
+    Light light;
+    for (int f = 0; f < 6; ++f) {
+        r.set_reshade(f % 2 == 0);
+        r.draw(persp, light, o);
+        plain.draw(persp, light, off);
+        CAPTURE(f);
+        if (f >= 4) CHECK(r.shown_set_from_picture());
+        if (f % 2 == 1) CHECK_FALSE(r.reshaded());
+        if (f == 4) CHECK(r.reshaded());
+        const ImageDiff d = image_diff(r.read(), plain.read());
+        CHECK(d.coverage_diff == 0);
+        CHECK(d.color_diff == 0);
+        CHECK(d.depth_diff == 0);
+    }
+    std::printf("[reshade] %d frames shaded the spheres from the ids target\n", reshaded);
 }

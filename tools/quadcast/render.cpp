@@ -376,6 +376,21 @@ int run_render(const RenderArgs& a) {
                             "drawn alone, %zu primitives, %.2f ms; %.2fx, %d pairs in alternating blocks\n",
                             a.scene.c_str(), picture_drawn, median(picture), tested_drawn, median(tested), median(tested) / median(picture), a.frames);
             }
+            if (r.reshaded()) {
+                // The view unchanged: the spheres the picture shows shaded from the ids target (the
+                // default) against drawn as sprites, interleaved (the default last).
+                std::vector<double> shaded, sprites;
+                for (int i = 0; i < a.frames; ++i)
+                    for (bool on : {false, true}) {
+                        r.set_reshade(on);
+                        const auto t0 = std::chrono::steady_clock::now();
+                        r.draw(fr.camera, fr.light, fr.options);
+                        (on ? shaded : sprites).push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+                    }
+                std::printf("%s: view unchanged: the spheres the picture shows shaded once per pixel from the ids target, median frame %.2f ms; "
+                            "drawn as sprites %.2f ms; %.2fx, %d pairs interleaved\n",
+                            a.scene.c_str(), median(shaded), median(sprites), median(sprites) / median(shaded), a.frames);
+            }
             if (slim.ball_count() > 0) {
                 std::printf("%s: %zu SLIM balls, three passes, %d-bit float accumulation targets", a.scene.c_str(), slim.ball_count(), slim.precision());
                 if (fr.options.culling) {
@@ -392,9 +407,9 @@ int run_render(const RenderArgs& a) {
                 std::printf("\n");
             }
             if (fr.options.occlusion_culling && r.unchanged_view() && r.shown_set_from_picture())
-                std::printf("%s: the records an earlier frame's picture showed drawn alone, the view unchanged: %zu primitives drawn, %zu left out "
+                std::printf("%s: the records an earlier frame's picture showed drawn alone, the view unchanged: %zu primitives drawn%s, %zu left out "
                             "(outside the view or hidden); no cull pass\n",
-                            a.scene.c_str(), r.drawn_primitives(), r.occluded());
+                            a.scene.c_str(), r.drawn_primitives(), r.reshaded() ? " (the spheres shaded from the ids target, a full-screen pass)" : "", r.occluded());
             else if (fr.options.occlusion_culling && r.unchanged_view())
                 std::printf("%s: the last frame's shown set drawn alone, its view unchanged since the test that chose it: %zu primitives drawn, %zu left out by that test "
                             "(outside the view or hidden); no cull pass\n",
@@ -409,7 +424,7 @@ int run_render(const RenderArgs& a) {
                 std::printf("%s: no cull pass: expected overlap %s below occlusion_min_overlap %g (the primitives rarely hide one another); all %zu drawn\n",
                             a.scene.c_str(), fmt_overlap(r.expected_overlap()).c_str(), double(fr.options.occlusion_min_overlap), r.drawn_primitives());
             if (has_spheres)
-                std::printf("%s: spheres drawn as %s\n", a.scene.c_str(),
+                std::printf("%s: spheres %sdrawn as %s\n", a.scene.c_str(), r.reshaded() ? "shaded from the ids target in this frame; where " : "",
                             r.drew_points() ? "point sprites (one vertex each)"
                                             : "quads (not every sphere lies inside the view's side planes and beyond the near plane with a sprite small enough: render::sphere_points_fit)");
             if (gl::has_extension(ctx->api(), "GL_ARB_pipeline_statistics_query")) {

@@ -104,6 +104,16 @@ public:
     /// Whether the last `draw` drew alone the records an earlier frame's picture showed, its view
     /// unchanged (set_shown_from_picture; `unchanged_view` is then true too).
     bool shown_set_from_picture() const;
+    /// In a frame that draws the records the picture shows (`shown_set_from_picture`), the sphere
+    /// variant's are not drawn as sprites: a full-screen pass reads at each pixel the record the
+    /// ids target holds (written by the frame that listed them, the view unchanged since) and casts
+    /// and shades it with the sprites' code (QuadricKey::reshade): the same picture and depth, one
+    /// fragment per pixel, no vertex per sphere; the light and the material may change between the
+    /// frames (the ids say which record shows, not its colour). On by default; off, the sprites are
+    /// drawn. A switch for benchmarks and tests.
+    void set_reshade(bool on);
+    /// Whether the last `draw` shaded the sphere variant from the ids target (set_reshade).
+    bool reshaded() const;
     /// A frame reusing the last one's shown set (RenderOptions::occlusion_reuse) whose view -- the
     /// camera's matrices, the viewport, back-face culling, the primitives and settings -- is the one
     /// that set was tested under draws the set alone (the default): that test kept every primitive

@@ -19,6 +19,9 @@ struct StageText {
     std::string text;  ///< the complete GLSL, `#version 450 core` first
 };
 
+/// The texture unit of the ids target in the quadric pass's stages that read it (QuadricKey::reshade).
+inline constexpr unsigned reshade_ids_unit = 6;
+
 /// The vertex and fragment stages of the quadric pass for `k` (canonical or not); throws
 /// std::invalid_argument for a key without stages (render::check).
 std::vector<StageText> program_stages(const render::QuadricKey& k);

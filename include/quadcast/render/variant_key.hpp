@@ -94,6 +94,12 @@ struct QuadricKey {
     /// 1 forward, 3 into the geometry buffer), so that the depth test leaves in it the record each
     /// pixel shows (QuadricRenderer's shown set, OcclusionPass::owners). Not the pass-through stage.
     bool ids = false;
+    /// The sphere variant shaded once per pixel from the ids target instead of drawn as sprites: a
+    /// full-screen triangle whose fragment stage reads the record the pixel showed in the frame
+    /// that wrote the ids (QuadricKey::ids), with the view unchanged since, and casts and shades it
+    /// with the sprites' own code (QuadricRenderer::set_reshade; the same picture, one fragment per
+    /// pixel, no vertex per sphere). Pixels showing no sphere discard after one read.
+    bool reshade = false;
     friend constexpr bool operator==(const QuadricKey&, const QuadricKey&) = default;
 };
 
@@ -105,6 +111,8 @@ constexpr QuadricKey canonical(QuadricKey k) {
     if (k.shape != FragmentShape::sphere || k.stage == FragmentStage::brute_force) k.points = false;
     if (k.stage != FragmentStage::incremental) k.count = false;
     if (k.stage != FragmentStage::incremental || k.shape == FragmentShape::sphere) k.early = false;
+    if (k.shape != FragmentShape::sphere || k.stage != FragmentStage::incremental) k.reshade = false;
+    if (k.reshade) k.points = k.ids = false;
     if (k.stage == FragmentStage::passthrough) {
         k.ids = false;
         k.cull = true;
@@ -115,8 +123,8 @@ constexpr QuadricKey canonical(QuadricKey k) {
 
 constexpr QuadricKey quadric_key(Variant v, bool culling, bool ortho, bool gbuffer, bool environment,
                                  FragmentStage stage = FragmentStage::incremental, bool points = false, bool count = false, bool early = false,
-                                 bool ids = false) {
-    return canonical(QuadricKey{fragment_shape(v), cast_options(v, culling).cull, ortho, gbuffer, environment, stage, points, count, early, ids});
+                                 bool ids = false, bool reshade = false) {
+    return canonical(QuadricKey{fragment_shape(v), cast_options(v, culling).cull, ortho, gbuffer, environment, stage, points, count, early, ids, reshade});
 }
 
 /// Throws std::invalid_argument naming why no stages exist for `k`.
@@ -215,6 +223,7 @@ inline std::string key_name(const QuadricKey& k) {
     if (k.count) s += ":count";
     if (k.early) s += ":early";
     if (k.ids) s += ":ids";
+    if (k.reshade) s += ":reshade";
     return s;
 }
 inline std::string key_name(const DeferredKey& k) {
@@ -277,7 +286,12 @@ inline std::vector<QuadricKey> all_quadric_keys() {
                 if (s == FragmentShape::sphere)
                     for (bool gbuffer : {false, true})
                         for (bool env : {false, true})
-                            if (!(gbuffer && env)) out.push_back({s, cull, ortho, gbuffer, env, FragmentStage::incremental, true});
+                            if (!(gbuffer && env)) {
+                                out.push_back({s, cull, ortho, gbuffer, env, FragmentStage::incremental, true});
+                                // (shaded from the ids target, QuadricKey::reshade; also counting)
+                                out.push_back({s, cull, ortho, gbuffer, env, FragmentStage::incremental, false, false, false, false, true});
+                                if (!env) out.push_back({s, cull, ortho, gbuffer, false, FragmentStage::incremental, false, true, false, false, true});
+                            }
                 if (!ortho && s != FragmentShape::sphere) out.push_back({s, cull, false, false, false, FragmentStage::brute_force});
                 // (the counting stages of forward shading and of the geometry buffer; the stages with
                 // the early discard, forward, with the environment, into the geometry buffer, counting)
@@ -299,7 +313,7 @@ inline std::vector<QuadricKey> all_quadric_keys() {
     // (each stage but the pass-through one also writing the ids target)
     const std::size_t n = out.size();
     for (std::size_t i = 0; i < n; ++i)
-        if (out[i].stage != FragmentStage::passthrough) {
+        if (out[i].stage != FragmentStage::passthrough && !out[i].reshade) {
             QuadricKey k = out[i];
             k.ids = true;
             out.push_back(k);
