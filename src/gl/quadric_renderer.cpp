@@ -708,8 +708,7 @@ public:
         if (opt.occlusion_culling && opt.occlusion_reuse && depth_target != 0 && count_ > 0 && !phased && !occluders_in_depth_) {
             shown = &shown_set_of(shown_, next_shown_, depth_target);
         } else {
-            for (ShownSet& s : shown_)
-                if (s.target == depth_target) s.valid = s.listed = s.owners.valid = s.of_picture = false;
+            forget_shown_sets(depth_target);
         }
         // (reuse needs no occluders, so it pays from a lower overlap than the cull pass: from
         // `reuse_overlap_share` of occlusion_min_overlap)
@@ -948,6 +947,7 @@ public:
                 gl.Uniform1ui(prog.require_uniform("qc_reshade_first"), ranges_[v].first);
                 gl.Uniform1ui(prog.require_uniform("qc_reshade_count"), ranges_[v].second);
                 gl.BindTextureUnit(reshade_ids_unit, idtex_);
+                gl.TextureBarrier();  // (an earlier draw wrote the ids target, still attached, not drawn to)
                 gl.DrawArrays(GL_TRIANGLES, 0, 3);
                 gl.BindTextureUnit(reshade_ids_unit, 0);
                 reshaded_ = true;
@@ -1587,7 +1587,15 @@ private:
         if (status != GL_FRAMEBUFFER_COMPLETE) throw std::runtime_error("quadcast::gl::QuadricRenderer: incomplete framebuffer with the ids target");
     }
 
+    /// Drops the shown sets of a depth target (its texture is gone, or its frames do not reuse one):
+    /// a texture name GL hands out again later names other depths and other ids.
+    void forget_shown_sets(GLuint depth_target) {
+        for (ShownSet& s : shown_)
+            if (s.target == depth_target) s.valid = s.listed = s.owners.valid = s.of_picture = false;
+    }
+
     void release_fbo() {
+        if (fbo_ != 0) forget_shown_sets(tex_[1]);
         if (gfbo_ != 0) {
             api_->DeleteFramebuffers(1, &gfbo_);
             api_->DeleteTextures(3, gtex_);

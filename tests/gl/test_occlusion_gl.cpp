@@ -1161,5 +1161,26 @@ TEST_CASE("the spheres shaded from the ids target: the sprites' picture and dept
         CHECK(d.color_diff == 0);
         CHECK(d.depth_diff == 0);
     }
+    // The ids target is the renderer's own: a resize between the listing frame and the next drops
+    // the set (the next frames test and list anew), and forward and deferred frames share it.
+    r.set_reshade(true);
+    const int sizes[][2] = {{w, h}, {w, h}, {w, h}, {w, h}, {w, h}, {w / 2, h / 2}, {w / 2, h / 2}, {w, h}, {w, h}, {w, h}, {w, h}, {w, h}, {w, h}, {w, h}};
+    for (int f = 0; f < 14; ++f) {
+        o.width = sizes[f][0];
+        o.height = sizes[f][1];
+        o.deferred = o.shadows = f >= 11;  // (forward, then deferred with the view kept)
+        RenderOptions plain_o = o;
+        plain_o.occlusion_culling = false;
+        r.draw(persp, light, o);
+        plain.draw(persp, light, plain_o);
+        CAPTURE(f);
+        if (f == 4 || f == 10 || f == 13) CHECK(r.reshaded());
+        if (f == 5 || f == 7) CHECK_FALSE(r.reshaded());
+        const ImageDiff d = image_diff(r.read(), plain.read());
+        CHECK(d.covered > 100);
+        CHECK(d.coverage_diff == 0);
+        CHECK(d.color_diff == 0);
+        CHECK(d.depth_diff == 0);
+    }
     std::printf("[reshade] %d frames shaded the spheres from the ids target\n", reshaded);
 }

@@ -139,6 +139,9 @@ TEST_CASE("sphere variant: point sprites draw the picture quads draw, and only w
     gl::OsmesaContext ctx;
     gl::QuadricRenderer points_r(ctx.api()), quads_r(ctx.api());
     quads_r.set_point_sprites(false);
+    // (the frames that draw the picture's records alone draw their spheres, not shading them from the ids target)
+    points_r.set_reshade(false);
+    quads_r.set_reshade(false);
     std::mt19937 rng(11);
     std::uniform_real_distribution<float> u(0.0f, 1.0f), c(0.2f, 1.0f);
     const int n = 4000;

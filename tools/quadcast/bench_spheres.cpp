@@ -118,8 +118,10 @@ void run_bounds_bench(const BoundsBenchOptions& o) {
                 "test that chose it (QuadricRenderer::set_skip_unchanged_view_test); 'tested ms': the same frames testing every primitive\n"
                 "again and drawing what passes (as after the camera moved), in a renderer of its own, 'tested/reuse' > 1: not testing pays;\n"
                 "spheres: every column draws the sphere variant as point sprites, one vertex per sphere, where they fit (QuadricRenderer::set_point_sprites,\n"
-                "render::sphere_points_fit); 'quads ms': the 'reuse' frames with quads of four vertices instead, in a renderer of its own, 'pts' whether\n"
-                "the 'reuse' frame drew sprites, 'quads/reuse' > 1: the sprites pay\n",
+                "render::sphere_points_fit); from the fourth 'reuse' frame on (the view unchanged) the spheres the picture shows are shaded once per pixel\n"
+                "from the ids target (QuadricRenderer::set_reshade); 'sprites ms': those frames drawing them as sprites instead, in a renderer of its own,\n"
+                "'sprites/reuse' > 1: shading from the ids target pays; 'quads ms': the sprites' frames with quads of four vertices instead, in a\n"
+                "renderer of its own, 'pts' whether the 'reuse' frame drew sprites, 'quads/sprites' > 1: the sprites pay\n",
                 double(render::RenderOptions{}.occlusion_min_overlap));
     std::printf("%10s %9s %8s %8s %8s %8s %10s %10s %7s %6s %6s %6s %7s %7s %7s", o.sticks ? "sticks" : "spheres", "covered", "quad ms", "tight ms", "cull ms", "of it cp",
                 "quad/cull", "tight/cull", "drawn", "q rast", "t rast", "c rast", "q fs", "t fs", "c fs");
@@ -127,15 +129,18 @@ void run_bounds_bench(const BoundsBenchOptions& o) {
     if (o.sticks) std::printf(" %8s %10s %7s", "rect ms", "rect/tight", "r rast");
     std::printf(" %8s %8s %8s %6s %10s %8s %9s %9s", "overlap", "t layers", "auto ms", "auto", "best/auto", "1ph ms", "1ph drawn", "1ph/cull");
     std::printf(" %8s %10s %8s %8s %7s %7s %11s %9s %12s", "reuse ms", "reuse drawn", "reuse fs", "started", "shaded", "hit", "auto/reuse", "tested ms", "tested/reuse");
-    if (!o.sticks) std::printf(" %8s %4s %11s", "quads ms", "pts", "quads/reuse");
+    if (!o.sticks) std::printf(" %10s %13s %8s %4s %13s", "sprites ms", "sprites/reuse", "quads ms", "pts", "quads/sprites");
     if (o.compare) std::printf(" %16s %14s %14s %15s", "closed cull ms", "sphere/closed", "closed comp ms", "cl. cull/comp");
     std::printf("\n");
     gl::QuadricRenderer r(ctx.api());
     gl::QuadricRenderer reuse_r(ctx.api());  // the default options' frames, each reusing the last one's shown set
     gl::QuadricRenderer tested_r(ctx.api());  // the same, testing every primitive again in every frame
     tested_r.set_skip_unchanged_view_test(false);
+    gl::QuadricRenderer sprites_r(ctx.api());  // the same drawing the picture's spheres as sprites, not shading them from the ids target
+    sprites_r.set_reshade(false);
     gl::QuadricRenderer quads_r(ctx.api());  // the same with the sphere variant as quads, not point sprites
     quads_r.set_point_sprites(false);
+    quads_r.set_reshade(false);
     std::unique_ptr<gl::QuadricRenderer> general;  // --compare: the closed-quadric variant
     if (o.compare) general = std::make_unique<gl::QuadricRenderer>(ctx.api());
     render::Camera cam;
@@ -173,7 +178,10 @@ void run_bounds_bench(const BoundsBenchOptions& o) {
         r.set_primitives(prims);
         reuse_r.set_primitives(prims);
         tested_r.set_primitives(prims);
-        if (!o.sticks) quads_r.set_primitives(prims);
+        if (!o.sticks) {
+            sprites_r.set_primitives(prims);
+            quads_r.set_primitives(prims);
+        }
         if (general) general->set_primitives(random_spheres(n, 7, render::Variant::ellipsoid));
         // Count the fragments of one frame each (the queries are not in the timed frames)
         double frag[3], rast[3];
@@ -253,15 +261,18 @@ void run_bounds_bench(const BoundsBenchOptions& o) {
         const long tested_diff = differing(tight_img, tested_r.read());
         if (tested_diff) std::printf("WARNING: %ld pixels differ between the frame testing the reused shown set again and the unculled frame\n", tested_diff);
         const bool drew_points = reuse_r.drew_points();
-        if (!o.sticks) {  // quads against point sprites: the same picture
-            for (int i = 0; i < 3; ++i) quads_r.draw(cam, light, reuse);
-            const long quads_diff = differing(reuse_r.read(), quads_r.read());
+        if (!o.sticks) {  // sprites against shading from the ids target, quads against sprites: the same pictures
+            for (int i = 0; i < 4; ++i) sprites_r.draw(cam, light, reuse);
+            for (int i = 0; i < 4; ++i) quads_r.draw(cam, light, reuse);
+            const long sprites_diff = differing(reuse_r.read(), sprites_r.read());
+            if (sprites_diff) std::printf("WARNING: %ld pixels differ between the spheres drawn as sprites and shaded from the ids target\n", sprites_diff);
+            const long quads_diff = differing(sprites_r.read(), quads_r.read());
             if (quads_diff) std::printf("WARNING: %ld pixels differ between the sphere variant as quads and as point sprites\n", quads_diff);
         }
         r.draw(cam, light, modes[2]);  // warm-up
         if (general) general->draw(cam, light, modes[2]);  // warm-up
         // Time the frames, interleaved
-        std::vector<double> ms_auto, ms_one_phase, ms_reuse, ms_tested, ms_quads;
+        std::vector<double> ms_auto, ms_one_phase, ms_reuse, ms_tested, ms_sprites, ms_quads;
         std::vector<double> ms[3], ms_general, ms_general_comp, ms_cull, ms_rect, ms_late, ms_comp, ms_cull_comp, ms_occ, ms_cull_occ;
         for (int i = 0; i < o.frames; ++i) {
             for (int m = 0; m < 3; ++m) ms[m].push_back(time_frame(r, modes[m]));
@@ -269,7 +280,10 @@ void run_bounds_bench(const BoundsBenchOptions& o) {
             ms_auto.push_back(time_frame(r, automatic));
             ms_reuse.push_back(time_frame(reuse_r, reuse));
             ms_tested.push_back(time_frame(tested_r, reuse));
-            if (!o.sticks) ms_quads.push_back(time_frame(quads_r, reuse));
+            if (!o.sticks) {
+                ms_sprites.push_back(time_frame(sprites_r, reuse));
+                ms_quads.push_back(time_frame(quads_r, reuse));
+            }
             ms_one_phase.push_back(time_frame(r, one_phase));
             r.set_early_discard(false);
             ms_late.push_back(time_frame(r, modes[2]));
@@ -319,7 +333,9 @@ void run_bounds_bench(const BoundsBenchOptions& o) {
         std::printf(" %8.1f %9.1f%%%s %8.2f %8.2f %7.2f %7.2f %10.2fx %9.1f %11.2fx", t_reuse, 100.0 * static_cast<double>(reuse_drawn) / std::max(1, n), reused ? "" : "*",
                     reuse_frag / covered, double(reuse_counts.started) / covered, double(reuse_counts.cast) / covered, double(reuse_counts.hit) / covered,
                     t_auto / t_reuse, median(ms_tested), median(ms_tested) / t_reuse);
-        if (!o.sticks) std::printf(" %8.1f %4s %10.2fx", median(ms_quads), drew_points ? "yes" : "no", median(ms_quads) / t_reuse);
+        if (!o.sticks)
+            std::printf(" %10.1f %12.2fx %8.1f %4s %12.2fx", median(ms_sprites), median(ms_sprites) / t_reuse, median(ms_quads), drew_points ? "yes" : "no",
+                        median(ms_quads) / median(ms_sprites));
         if (general) {
             const double m_general = median(ms_general);
             const double m_general_comp = median(ms_general_comp);

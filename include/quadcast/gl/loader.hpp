@@ -307,6 +307,7 @@
     X(void, TextureParameterf, (GLuint texture, GLenum pname, GLfloat param)) \
     X(void, GenerateTextureMipmap, (GLuint texture)) \
     X(void, BindTextureUnit, (GLuint unit, GLuint texture)) \
+    X(void, TextureBarrier, ()) \
     X(void, GetTextureImage, (GLuint texture, GLint level, GLenum format, GLenum type, GLsizei bufSize, void *pixels)) \
     X(void, CreateFramebuffers, (GLsizei n, GLuint *framebuffers)) \
     X(void, NamedFramebufferTexture, (GLuint framebuffer, GLenum attachment, GLuint texture, GLint level)) \
