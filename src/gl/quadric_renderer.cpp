@@ -749,6 +749,12 @@ public:
         reshade_frame_ = picture_set_drawn_ && reshade_ && depth_target == tex_[1] && stage_ == render::FragmentStage::incremental;
         reshaded_ = false;
         ids_frame_ = same_view && !picture_set_drawn_ && shown_from_picture_ && depth_target == tex_[1] && depth_test_ && stage_ != render::FragmentStage::passthrough;
+        // Where a still camera's frames would list the picture's records, their programs are compiled
+        // in the first frame (a first use costs a frame tens of milliseconds on llvmpipe).
+        prefetch_ = shown && shown_from_picture_ && depth_target == tex_[1] && depth_test_ && stage_ != render::FragmentStage::passthrough && !compute_bounds_;
+        if (prefetch_)
+            for (render::OcclusionPass pass : {render::OcclusionPass::owners, render::OcclusionPass::owner_count, render::OcclusionPass::scan, render::OcclusionPass::owner_compact})
+                programs_.get(render::OcclusionKey{pass});
         if (ids_frame_) {
             const GLenum bufs[4] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2, GL_COLOR_ATTACHMENT3};
             gl.DrawBuffers(deferred ? 4 : 2, bufs);
@@ -963,6 +969,15 @@ public:
             // discard: key.early), counting in `draw`'s counted pass (compiled on first use).
             const render::QuadricKey key = render::quadric_key(variant, opt.culling, cam.orthographic, deferred, opt.environment != nullptr, stage_, points, counting_, early, ids_frame_);
             const Program& prog = programs_.get(key);
+            if (prefetch_) {
+                // (compiled with this frame's: the programs of a still camera's next frames, the set
+                // drawn alone without the early discard, with the ids output, the spheres shaded from
+                // the ids target, so that none of those frames pays a compile)
+                for (bool ids : {false, true})
+                    programs_.get(render::quadric_key(variant, opt.culling, cam.orthographic, deferred, opt.environment != nullptr, stage_, points, counting_, false, ids));
+                if (variant == render::Variant::sphere && reshade_)
+                    programs_.get(render::quadric_key(variant, opt.culling, cam.orthographic, deferred, opt.environment != nullptr, stage_, false, counting_, false, false, true));
+            }
             gl.UseProgram(prog.id());
             set_uniforms(prog, cam, light, opt, viewport[2], viewport[3]);
             set_bound_uniforms(prog, variant, cam, opt);
@@ -1619,6 +1634,7 @@ private:
     bool shown_from_picture_ = true;  ///< set_shown_from_picture
     bool ids_frame_ = false;        ///< this frame's primitives write the ids target (draw_primitives)
     bool reshade_ = true;           ///< set_reshade
+    bool prefetch_ = false;         ///< this frame also compiles a still camera's later programs (draw_primitives)
     bool reshade_frame_ = false;    ///< this frame shades the sphere variant from the ids target (draw_primitives)
     bool reshaded_ = false;         ///< it did (reshaded)
     bool picture_set_drawn_ = false;  ///< the last `draw_primitives` drew a picture's records alone (shown_set_from_picture)
