@@ -748,10 +748,12 @@ public:
         // set is the picture's only while its view is this one, in this target)
         reshade_frame_ = picture_set_drawn_ && reshade_ && depth_target == tex_[1] && stage_ == render::FragmentStage::incremental;
         reshaded_ = false;
-        ids_frame_ = same_view && !picture_set_drawn_ && shown_from_picture_ && depth_target == tex_[1] && depth_test_ && stage_ != render::FragmentStage::passthrough;
+        // (the pictures whose records can be listed: with the depth test, in the renderer's own target)
+        const bool listable = shown_from_picture_ && depth_target == tex_[1] && depth_test_ && stage_ != render::FragmentStage::passthrough;
+        ids_frame_ = same_view && !picture_set_drawn_ && listable;
         // Where a still camera's frames would list the picture's records, their programs are compiled
         // in the first frame (a first use costs a frame tens of milliseconds on llvmpipe).
-        prefetch_ = shown && shown_from_picture_ && depth_target == tex_[1] && depth_test_ && stage_ != render::FragmentStage::passthrough && !compute_bounds_;
+        prefetch_ = shown && listable && !compute_bounds_;
         if (prefetch_)
             for (render::OcclusionPass pass : {render::OcclusionPass::owners, render::OcclusionPass::owner_count, render::OcclusionPass::scan, render::OcclusionPass::owner_compact})
                 programs_.get(render::OcclusionKey{pass});
@@ -943,11 +945,15 @@ public:
             const auto listed = static_cast<GLsizei>(ph.listed ? ph.listed->counts[static_cast<std::size_t>(v)] : 0u);
             if (ph.listed && listed == 0) continue;
             const bool points = points_ && variant == render::Variant::sphere;
+            // The variant's program for this frame's camera and options: forward (with the environment
+            // reflection) or into the geometry buffer, for the fragment stage set by `set_fragment_stage`,
+            // counting in `draw`'s counted pass (compiled on first use).
+            auto key_of = [&](bool sprites, bool early, bool ids, bool reshade) {
+                return render::quadric_key(variant, opt.culling, cam.orthographic, deferred, opt.environment != nullptr, stage_, sprites, counting_, early, ids, reshade);
+            };
             if (reshade_frame_ && variant == render::Variant::sphere) {
                 // The records the picture shows, each pixel's shaded once from the ids target (QuadricKey::reshade)
-                const render::QuadricKey key = render::quadric_key(variant, opt.culling, cam.orthographic, deferred, opt.environment != nullptr, stage_, false,
-                                                                   counting_, false, false, true);
-                const Program& prog = programs_.get(key);
+                const Program& prog = programs_.get(key_of(false, false, false, true));
                 gl.UseProgram(prog.id());
                 set_uniforms(prog, cam, light, opt, viewport[2], viewport[3]);
                 gl.Uniform1ui(prog.require_uniform("qc_reshade_first"), ranges_[v].first);
@@ -964,19 +970,15 @@ public:
             // inside its quad), nor the sphere variant, whose cast costs about what the test does
             // (bench spheres: 0.85-0.99x).
             const bool early = indirect && early_discard_ && (variant != render::Variant::planes || planes_in_ball_) && variant != render::Variant::sphere;
-            // The program: forward (with the environment reflection) or into the geometry buffer, for
-            // the fragment stage set by `set_fragment_stage` (only the incremental one has the early
-            // discard: key.early), counting in `draw`'s counted pass (compiled on first use).
-            const render::QuadricKey key = render::quadric_key(variant, opt.culling, cam.orthographic, deferred, opt.environment != nullptr, stage_, points, counting_, early, ids_frame_);
+            // (only the incremental stage has the early discard: key.early)
+            const render::QuadricKey key = key_of(points, early, ids_frame_, false);
             const Program& prog = programs_.get(key);
             if (prefetch_) {
                 // (compiled with this frame's: the programs of a still camera's next frames, the set
                 // drawn alone without the early discard, with the ids output, the spheres shaded from
                 // the ids target, so that none of those frames pays a compile)
-                for (bool ids : {false, true})
-                    programs_.get(render::quadric_key(variant, opt.culling, cam.orthographic, deferred, opt.environment != nullptr, stage_, points, counting_, false, ids));
-                if (variant == render::Variant::sphere && reshade_)
-                    programs_.get(render::quadric_key(variant, opt.culling, cam.orthographic, deferred, opt.environment != nullptr, stage_, false, counting_, false, false, true));
+                for (bool ids : {false, true}) programs_.get(key_of(points, false, ids, false));
+                if (variant == render::Variant::sphere && reshade_) programs_.get(key_of(false, false, false, true));
             }
             gl.UseProgram(prog.id());
             set_uniforms(prog, cam, light, opt, viewport[2], viewport[3]);

@@ -189,6 +189,14 @@ Stage vertex_shader(bool ortho, bool planes) {
     return s;
 }
 
+/// What the sphere variant's fragment stage reads of record `p`: from the vertex stage's flat
+/// varyings, or (QuadricKey::reshade) fetched by the fragment stage itself.
+const char* const sphere_fields_glsl =
+    "    qc_radius = qc_record_radius(p);\n"
+    "    qc_center = qc_record_center(p);\n"
+    "    qc_prim_color = qc_record_color(p);\n"
+    "    qc_prim_material = qc_record_material(p);\n";
+
 /// The vertex stage of the sphere-specialised variant: the bounding-sphere quad (the sphere is
 /// its own bound), no per-primitive culling, and the radius, centre and
 /// colour passed on as flat varyings (its fragment stage reads no record).
@@ -201,13 +209,8 @@ Stage sphere_vertex_shader(bool ortho, bool points) {
     add_kernel(s, fns, "nearest_distance");
     if (points) add_kernel(s, fns, "point_sprite");
     // (both vertex stages: the record of `prim` and the varyings the fragment stage reads instead of it)
-    const char* sphere_varyings =
-        "    qc_Primitive p = qc_prims[prim];\n"
-        "    qc_prim_id = prim;\n"
-        "    qc_radius = qc_record_radius(p);\n"
-        "    qc_center = qc_record_center(p);\n"
-        "    qc_prim_color = qc_record_color(p);\n"
-        "    qc_prim_material = qc_record_material(p);\n";
+    const std::string sphere_varyings = std::string("    qc_Primitive p = qc_prims[prim];\n"
+                                                    "    qc_prim_id = prim;\n") + sphere_fields_glsl;
     std::ostringstream m;
     m << record_glsl;
     m << bound_uniforms << "\n"
@@ -330,11 +333,8 @@ Stage fragment_shader(const render::QuadricKey& k) {
     if (k.reshade)
         m << "    uint qc_shown_id = texelFetch(qc_ids, ivec2(gl_FragCoord.xy), 0).r;\n"
              "    if (qc_shown_id == 0u || qc_shown_id - 1u - qc_reshade_first >= qc_reshade_count) discard;  // (no sphere here)\n"
-             "    qc_Primitive qc_shown = qc_prims[qc_shown_id - 1u];\n"
-             "    qc_radius = qc_record_radius(qc_shown);\n"
-             "    qc_center = qc_record_center(qc_shown);\n"
-             "    qc_prim_color = qc_record_color(qc_shown);\n"
-             "    qc_prim_material = qc_record_material(qc_shown);\n";
+             "    qc_Primitive p = qc_prims[qc_shown_id - 1u];\n"
+          << sphere_fields_glsl;
     if (k.early)
         m << "    // Behind the occluders at this pixel: nothing of this primitive can show here (quadcast/occlusion.hpp)\n"
              "    if (qc_nearest > 0.0 && floatBitsToUint(qc_nearest) > qc_depth_texel(qc_pyramid_index(uvec3(0u, uint(qc_depth_width), 0u), uvec2(gl_FragCoord.xy)))) discard;\n";
@@ -1152,11 +1152,8 @@ std::vector<StageText> program_stages(const render::QuadricKey& key) {
     const bool planes = k.shape == FragmentShape::planes;
     if (k.reshade) {
         Stage v;
-        v.text = "// A triangle over the whole viewport (vertices 0, 1, 2)\n"
-                 "void main()\n{\n"
-                 "    gl_Position = vec4(float((gl_VertexID & 1) * 4 - 1), float((gl_VertexID >> 1) * 4 - 1), 0.0, 1.0);\n"
-                 "}\n";
-        out.push_back(stage_text(StageText::Kind::vertex, "qc_sphere_reshade.vert", v, "quadric renderer: the sphere variant shaded from the ids target, a full-screen triangle"));
+        v.text = detail::fullscreen_vertex;
+        out.push_back(stage_text(StageText::Kind::vertex, "qc_fullscreen.vert", v, "quadric renderer: the sphere variant shaded from the ids target, a full-screen triangle"));
         const std::string variant = std::string("sphere") + (k.cull ? "" : "_nocull");
         out.push_back(stage_text(StageText::Kind::fragment, (k.gbuffer ? "qc_gbuffer_" : "qc_quadric_") + variant + (k.environment ? "_environment" : "") + "_reshade_" + proj + ".frag",
                                  fragment_shader(k), "quadric renderer: " + std::string(k.gbuffer ? "geometry-buffer " : "") + "fragment stage, " + variant +

@@ -321,37 +321,23 @@ int run_render(const RenderArgs& a) {
                 // (the kept frames last, so that what is printed below is theirs).
                 render::RenderOptions redraw = fr.options;
                 redraw.shadow_map_reuse = false;
-                std::vector<double> kept, drawn;
                 bool every_kept = true;
-                for (int i = 0; i < a.frames; ++i) {
-                    auto t0 = std::chrono::steady_clock::now();
-                    r.draw(fr.camera, fr.light, redraw);
-                    drawn.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
-                    t0 = std::chrono::steady_clock::now();
-                    r.draw(fr.camera, fr.light, fr.options);
-                    kept.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
-                    every_kept = every_kept && r.reused_shadow_map();
-                }
+                const auto [drawn, kept] = interleaved_medians(a.frames, [&](bool keep) {
+                    r.draw(fr.camera, fr.light, keep ? fr.options : redraw);
+                    if (keep) every_kept = every_kept && r.reused_shadow_map();
+                });
                 std::printf("%s: shadow map %s: median frame %.2f ms; drawn in every frame (\"shadow\": {\"reuse\": false}) %.2f ms; %.2fx, %d pairs interleaved\n",
-                            a.scene.c_str(), every_kept ? "kept from the first frame" : "drawn again in some frames", median(kept), median(drawn),
-                            median(drawn) / median(kept), a.frames);
+                            a.scene.c_str(), every_kept ? "kept from the first frame" : "drawn again in some frames", kept, drawn, drawn / kept, a.frames);
             }
             if (fr.options.shadows) {
                 // The penumbra's PCF samples gathered four at a time from the shadow map in phases
                 // (the default) against read one by one, interleaved (the default last).
-                std::vector<double> gathered, single;
-                for (int i = 0; i < a.frames; ++i) {
-                    r.set_shadow_phases(false);
-                    auto t0 = std::chrono::steady_clock::now();
+                const auto [single, gathered] = interleaved_medians(a.frames, [&](bool phases) {
+                    r.set_shadow_phases(phases);
                     r.draw(fr.camera, fr.light, fr.options);
-                    single.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
-                    r.set_shadow_phases(true);
-                    t0 = std::chrono::steady_clock::now();
-                    r.draw(fr.camera, fr.light, fr.options);
-                    gathered.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
-                }
+                });
                 std::printf("%s: PCF samples gathered from the shadow map in phases: median frame %.2f ms; read one by one %.2f ms; %.2fx, %d pairs interleaved\n",
-                            a.scene.c_str(), median(gathered), median(single), median(single) / median(gathered), a.frames);
+                            a.scene.c_str(), gathered, single, single / gathered, a.frames);
             }
             if (fr.options.occlusion_culling && r.unchanged_view()) {  // (a frame with its view unchanged reused a set)
                 // The view unchanged: the records the picture shows drawn alone (the default)
@@ -379,17 +365,13 @@ int run_render(const RenderArgs& a) {
             if (r.reshaded()) {
                 // The view unchanged: the spheres the picture shows shaded from the ids target (the
                 // default) against drawn as sprites, interleaved (the default last).
-                std::vector<double> shaded, sprites;
-                for (int i = 0; i < a.frames; ++i)
-                    for (bool on : {false, true}) {
-                        r.set_reshade(on);
-                        const auto t0 = std::chrono::steady_clock::now();
-                        r.draw(fr.camera, fr.light, fr.options);
-                        (on ? shaded : sprites).push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
-                    }
+                const auto [sprites, shaded] = interleaved_medians(a.frames, [&](bool reshade) {
+                    r.set_reshade(reshade);
+                    r.draw(fr.camera, fr.light, fr.options);
+                });
                 std::printf("%s: view unchanged: the spheres the picture shows shaded once per pixel from the ids target, median frame %.2f ms; "
                             "drawn as sprites %.2f ms; %.2fx, %d pairs interleaved\n",
-                            a.scene.c_str(), median(shaded), median(sprites), median(sprites) / median(shaded), a.frames);
+                            a.scene.c_str(), shaded, sprites, sprites / shaded, a.frames);
             }
             if (slim.ball_count() > 0) {
                 std::printf("%s: %zu SLIM balls, three passes, %d-bit float accumulation targets", a.scene.c_str(), slim.ball_count(), slim.precision());

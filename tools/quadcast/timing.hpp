@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstring>
+#include <utility>
 #include <vector>
 
 namespace quadcast::cli {
@@ -19,6 +20,20 @@ inline double median(std::vector<double> v) {
     if (v.empty()) return 0.0;
     std::sort(v.begin(), v.end());
     return v[v.size() / 2];
+}
+
+/// Frames timed in pairs, frame(false) then frame(true) (the default last, so that what follows
+/// them is its frame): the medians of the two, {off, on}.
+template <class Frame>
+std::pair<double, double> interleaved_medians(int pairs, Frame&& frame) {
+    std::vector<double> off, on;
+    for (int i = 0; i < pairs; ++i)
+        for (bool b : {false, true}) {
+            const auto t0 = std::chrono::steady_clock::now();
+            frame(b);
+            (b ? on : off).push_back(ms_since(t0));
+        }
+    return {median(off), median(on)};
 }
 
 /// The process's peak and current resident memory in bytes (VmHWM, VmRSS of /proc/self/status;
